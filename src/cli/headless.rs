@@ -1,0 +1,115 @@
+//! `kessler headless SCENARIO --steps N [--mode M] [--threads T] [--dump FILE]`.
+
+use std::path::Path;
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::{ExecutionArgs, Failure, HeadlessArgs, load_scenario};
+use crate::Simulation;
+use crate::dump;
+use crate::resources::{Execution, available_threads};
+use crate::scenario::Scenario;
+
+/// Makes the execution the arguments ask for.
+pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
+    let threads = args.threads.map_or_else(available_threads, usize::from);
+    Execution::new(args.mode, threads).map_err(|e| Failure::input(format!("--threads: {e}")))
+}
+
+/// Checks, before any work, that `path` can be written as a dump.
+fn check_dump_path(path: &Path) -> Result<(), Failure> {
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if path.is_dir() {
+        return Err(Failure::input(format!(
+            "--dump {}: is a directory",
+            path.display()
+        )));
+    }
+    if !parent.is_dir() {
+        return Err(Failure::input(format!(
+            "--dump {}: folder {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    Ok(())
+}
+
+pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
+    let (scenario, origin) = load_scenario(Some(&args.scenario))?;
+    if let Some(path) = &args.dump {
+        check_dump_path(path)?;
+    }
+    simulate(
+        &scenario,
+        &origin,
+        execution(&args.execution)?,
+        args.steps,
+        args.dump.as_deref(),
+    )
+}
+
+/// Runs `updates` updates of `scenario` with a progress bar on a terminal,
+/// prints a one-line summary, and writes the dump if asked.
+pub fn simulate(
+    scenario: &Scenario,
+    origin: &str,
+    execution: Execution,
+    updates: u64,
+    dump_path: Option<&Path>,
+) -> Result<(), Failure> {
+    let (mode, threads) = (execution.mode(), execution.threads());
+    let mut sim = Simulation::from_scenario(scenario, origin, execution).map_err(Failure::input)?;
+    let bodies_start = sim.body_count();
+
+    let progress = ProgressBar::new(updates).with_style(
+        ProgressStyle::with_template(
+            "{spinner} {pos}/{len} updates [{bar:30}] {per_sec} eta {eta}",
+        )
+        .expect("template is valid")
+        .progress_chars("=> "),
+    );
+    let start = Instant::now();
+    // Steps in batches so the bar costs nothing measurable.
+    let batch = (updates / 200).max(1);
+    let mut done = 0;
+    while done < updates {
+        let n = batch.min(updates - done);
+        sim.step(n);
+        done += n;
+        progress.set_position(done);
+    }
+    progress.finish_and_clear();
+    let elapsed = start.elapsed();
+
+    if let Some(path) = dump_path {
+        let bodies = sim.snapshot();
+        dump::write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure {
+            message: format!("--dump {}: {e}", path.display()),
+            code: 1,
+        })?;
+    }
+    let per_update_ms = if updates == 0 {
+        0.0
+    } else {
+        elapsed.as_secs_f64() * 1e3 / updates as f64
+    };
+    println!(
+        "{}: {} updates of {} bodies ({} at the end) in {:.3} s, {:.3} ms/update, {mode} on {threads} thread{}{}",
+        scenario.name,
+        updates,
+        bodies_start,
+        sim.body_count(),
+        elapsed.as_secs_f64(),
+        per_update_ms,
+        if threads == 1 { "" } else { "s" },
+        dump_path
+            .map(|p| format!("; state written to {}", p.display()))
+            .unwrap_or_default(),
+    );
+    Ok(())
+}

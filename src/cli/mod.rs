@@ -1,0 +1,108 @@
+//! The `kessler` command line: parsing, dispatch and error reporting.
+
+mod args;
+mod headless;
+mod validate;
+
+pub use args::*;
+
+use std::fmt;
+use std::process::ExitCode;
+
+use clap::Parser;
+use clap::error::ErrorKind;
+
+use crate::resources::Execution;
+use crate::scenario::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, Scenario};
+
+/// Exit code for bad input (arguments, scenario files).
+pub const EXIT_BAD_INPUT: u8 = 2;
+
+/// Why a command failed: one line for stderr and an exit code.
+#[derive(Debug)]
+pub struct Failure {
+    pub message: String,
+    pub code: u8,
+}
+
+impl Failure {
+    /// Bad user input: exit code 2.
+    pub fn input(message: impl fmt::Display) -> Self {
+        Self {
+            message: message.to_string(),
+            code: EXIT_BAD_INPUT,
+        }
+    }
+}
+
+/// Entry point of the binary.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            eprintln!("kessler: error: {}", one_line(&e.render().to_string()));
+            return ExitCode::from(EXIT_BAD_INPUT);
+        }
+    };
+    match dispatch(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            eprintln!("kessler: error: {}", f.message);
+            ExitCode::from(f.code)
+        }
+    }
+}
+
+/// clap's error folded into one line: the problem and the hints, without
+/// the usage block.
+fn one_line(rendered: &str) -> String {
+    let parts: Vec<&str> = rendered
+        .lines()
+        .map(str::trim)
+        .filter(|l| {
+            !l.is_empty() && !l.starts_with("Usage:") && !l.starts_with("For more information")
+        })
+        .map(|l| l.trim_start_matches("error: "))
+        .collect();
+    format!("{} (see `kessler --help`)", parts.join(" "))
+}
+
+fn dispatch(command: Option<Command>) -> Result<(), Failure> {
+    match command.unwrap_or(Command::Run { scenario: None }) {
+        Command::Run { scenario } => run(scenario),
+        Command::Headless(args) => headless::headless(&args),
+        Command::Validate { scenario } => validate::validate(&scenario),
+    }
+}
+
+/// Loads the scenario at `path`, or the built-in default; returns it with
+/// the name to use in messages.
+pub fn load_scenario(path: Option<&std::path::Path>) -> Result<(Scenario, String), Failure> {
+    match path {
+        Some(path) => Ok((
+            Scenario::load(path).map_err(Failure::input)?,
+            path.display().to_string(),
+        )),
+        None => Ok((
+            Scenario::parse(DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME).map_err(Failure::input)?,
+            DEFAULT_SCENARIO_NAME.to_owned(),
+        )),
+    }
+}
+
+/// Updates `kessler run` simulates while the window is not built.
+const RUN_UPDATES: u64 = 600;
+
+fn run(scenario: Option<std::path::PathBuf>) -> Result<(), Failure> {
+    eprintln!(
+        "kessler: the interactive window is not part of this build yet; \
+         simulating {RUN_UPDATES} updates headless instead (see `kessler headless --help`)"
+    );
+    let (scenario, origin) = load_scenario(scenario.as_deref())?;
+    let execution = Execution::all_cores(Default::default()).map_err(Failure::input)?;
+    headless::simulate(&scenario, &origin, execution, RUN_UPDATES, None)
+}

@@ -1,0 +1,137 @@
+//! The components that make an entity a simulated body (DESIGN §1).
+//!
+//! Units are the scenario's own: lengths in "units", time in "steps" scaled by
+//! the scenario's `time_step`, mass in "mass units". A body's position is its
+//! [`Transform`](bevy::prelude::Transform)'s `translation`; rotation and scale
+//! are unused by the simulation.
+
+use bevy::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Stable identity of a body: explicit scenario bodies get 0, 1, 2… in file
+/// order, then generated ones; fragments get fresh ids. Ids are never reused.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct BodyId(pub u64);
+
+/// Linear velocity in units per unit of time.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct Velocity(pub Vec3);
+
+/// Gravitational acceleration of this update, in units per time², written by
+/// the gravity stage and consumed by integration. Zero for non-adopters.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct Acceleration(pub Vec3);
+
+/// Mass in mass units; always finite and > 0.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Mass(pub f32);
+
+/// Half the edge lengths of the body's axis-aligned box, in units; every
+/// component > 0. A "unit cube" has half-extents 1 (edge 2).
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct HalfExtents(pub Vec3);
+
+/// Position before the last integration step, in units. The collision
+/// response uses it to find the axes on which two boxes were still apart.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct PreviousPosition(pub Vec3);
+
+/// Whether a body attracts others, is attracted, both, or neither.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum GravityRole {
+    /// Attracts adopters; not attracted itself.
+    Source,
+    /// Attracted by every source; attracts nothing.
+    #[default]
+    Adopter,
+    /// Attracts and is attracted (an n-body participant).
+    SourceAndAdopter,
+    /// Neither: moves only by its own velocity.
+    Inert,
+}
+
+impl GravityRole {
+    /// True when this body's mass pulls on adopters.
+    pub fn is_source(self) -> bool {
+        matches!(self, Self::Source | Self::SourceAndAdopter)
+    }
+
+    /// True when this body is pulled by sources.
+    pub fn is_adopter(self) -> bool {
+        matches!(self, Self::Adopter | Self::SourceAndAdopter)
+    }
+
+    /// The name used in scenario files and CSV dumps.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Source => "Source",
+            Self::Adopter => "Adopter",
+            Self::SourceAndAdopter => "SourceAndAdopter",
+            Self::Inert => "Inert",
+        }
+    }
+}
+
+/// `false` marks an immovable collider (the planet): collisions never move or
+/// shatter it; the other body bounces off. Gravity still moves it if it is an
+/// adopter, and its own velocity still moves it (a moving wall).
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Interacts(pub bool);
+
+/// Everything a body is made of, in one bundle.
+#[derive(Bundle, Clone, Debug)]
+pub struct BodyBundle {
+    pub id: BodyId,
+    pub transform: Transform,
+    pub previous_position: PreviousPosition,
+    pub velocity: Velocity,
+    pub acceleration: Acceleration,
+    pub mass: Mass,
+    pub half_extents: HalfExtents,
+    pub role: GravityRole,
+    pub interacts: Interacts,
+}
+
+/// A body's state as plain data: what scenarios create, fragments are born
+/// as, and dumps print.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyState {
+    pub id: BodyId,
+    pub position: Vec3,
+    pub velocity: Vec3,
+    pub mass: f32,
+    pub half_extents: Vec3,
+    pub role: GravityRole,
+    pub interacts: bool,
+}
+
+impl BodyState {
+    /// The bundle that spawns this body, at rest in its own previous position.
+    pub fn bundle(&self) -> BodyBundle {
+        BodyBundle {
+            id: self.id,
+            transform: Transform::from_translation(self.position),
+            previous_position: PreviousPosition(self.position),
+            velocity: Velocity(self.velocity),
+            acceleration: Acceleration::default(),
+            mass: Mass(self.mass),
+            half_extents: HalfExtents(self.half_extents),
+            role: self.role,
+            interacts: Interacts(self.interacts),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn roles_split_into_source_and_adopter() {
+        let flags = |r: GravityRole| (r.is_source(), r.is_adopter());
+        assert_eq!(flags(GravityRole::Source), (true, false));
+        assert_eq!(flags(GravityRole::Adopter), (false, true));
+        assert_eq!(flags(GravityRole::SourceAndAdopter), (true, true));
+        assert_eq!(flags(GravityRole::Inert), (false, false));
+    }
+}

@@ -1,0 +1,5 @@
+//! ECS components.
+
+mod body;
+
+pub use body::*;

@@ -1,0 +1,299 @@
+//! Sequential or parallel execution of the simulation kernels, chosen at run
+//! time — the one place that decides how a kernel is driven.
+//!
+//! Every stage writes its logic once as a kernel over slices. [`Execution`]
+//! either calls that kernel on the whole data (sequential) or splits the data
+//! into contiguous chunks and calls the same kernel on each chunk from a rayon
+//! pool of exactly `threads` threads (parallel). Results of chunked maps are
+//! returned in input order, so reductions and collects see the same sequence
+//! in both modes and the state stays bit-identical.
+
+use std::fmt;
+use std::ops::Range;
+use std::sync::Arc;
+
+use bevy::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// How the simulation stages run.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+pub enum ExecutionMode {
+    /// Every stage on the calling thread.
+    Sequential,
+    /// Stages split into chunks on a pool of worker threads (falling back to
+    /// sequential where the work is too small to pay for the dispatch).
+    #[default]
+    Parallel,
+}
+
+impl ExecutionMode {
+    /// Lower-case name as used on the command line and in CSV files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sequential => "sequential",
+            Self::Parallel => "parallel",
+        }
+    }
+}
+
+impl fmt::Display for ExecutionMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Most worker threads a pool may have.
+pub const MAX_THREADS: usize = 256;
+
+/// The execution mode, thread count and worker pool of the simulation.
+#[derive(Resource, Clone)]
+pub struct Execution {
+    mode: ExecutionMode,
+    pool: Arc<rayon::ThreadPool>,
+}
+
+impl fmt::Debug for Execution {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Execution")
+            .field("mode", &self.mode)
+            .field("threads", &self.threads())
+            .finish()
+    }
+}
+
+/// The worker pool could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ExecutionError {
+    #[error("thread count must be between 1 and {MAX_THREADS}, got {0}")]
+    BadThreadCount(usize),
+    #[error("could not start {threads} worker threads: {source}")]
+    Pool {
+        threads: usize,
+        source: rayon::ThreadPoolBuildError,
+    },
+}
+
+impl Execution {
+    /// A pool of `threads` workers used in `mode`.
+    pub fn new(mode: ExecutionMode, threads: usize) -> Result<Self, ExecutionError> {
+        Ok(Self {
+            mode,
+            pool: Arc::new(build_pool(threads)?),
+        })
+    }
+
+    /// Parallel on every core of this machine.
+    pub fn all_cores(mode: ExecutionMode) -> Result<Self, ExecutionError> {
+        Self::new(mode, available_threads())
+    }
+
+    pub fn mode(&self) -> ExecutionMode {
+        self.mode
+    }
+
+    pub fn set_mode(&mut self, mode: ExecutionMode) {
+        self.mode = mode;
+    }
+
+    /// Worker threads used in parallel mode.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    /// Replaces the worker pool; a no-op if the count is unchanged.
+    pub fn set_threads(&mut self, threads: usize) -> Result<(), ExecutionError> {
+        if threads != self.threads() {
+            self.pool = Arc::new(build_pool(threads)?);
+        }
+        Ok(())
+    }
+
+    /// Runs `kernel` over `data`: whole, on this thread, in sequential mode or
+    /// when `data` has fewer than two `grain`s of items; otherwise on
+    /// contiguous chunks of at least `grain` items in the worker pool.
+    pub fn for_chunks<S, K>(&self, data: S, grain: usize, kernel: K)
+    where
+        S: Split,
+        K: Fn(S) + Sync,
+    {
+        self.map_chunks(data, grain, kernel);
+    }
+
+    /// Like [`for_chunks`](Self::for_chunks), collecting each chunk's result
+    /// in input order (one element when run whole).
+    pub fn map_chunks<S, R, K>(&self, data: S, grain: usize, kernel: K) -> Vec<R>
+    where
+        S: Split,
+        R: Send,
+        K: Fn(S) -> R + Sync,
+    {
+        let len = data.len();
+        let grain = grain.max(1);
+        if self.mode == ExecutionMode::Sequential || len < 2 * grain {
+            return vec![kernel(data)];
+        }
+        // A few chunks per thread lets work stealing even out uneven chunks.
+        let chunk = grain.max(len.div_ceil(self.threads() * 4));
+        let mut out = Vec::with_capacity(len.div_ceil(chunk));
+        self.pool
+            .install(|| split_recursive(data, chunk, &kernel, &mut out));
+        out
+    }
+}
+
+fn split_recursive<S, R, K>(data: S, chunk: usize, kernel: &K, out: &mut Vec<R>)
+where
+    S: Split,
+    R: Send,
+    K: Fn(S) -> R + Sync,
+{
+    let len = data.len();
+    if len <= chunk {
+        out.push(kernel(data));
+        return;
+    }
+    // Split on a chunk boundary so chunk sizes do not depend on recursion depth.
+    let mid = (len / 2).div_ceil(chunk) * chunk;
+    let (left, right) = data.split_at(mid);
+    let mut right_out = Vec::new();
+    rayon::join(
+        || split_recursive(left, chunk, kernel, out),
+        || split_recursive(right, chunk, kernel, &mut right_out),
+    );
+    out.append(&mut right_out);
+}
+
+fn build_pool(threads: usize) -> Result<rayon::ThreadPool, ExecutionError> {
+    if threads == 0 || threads > MAX_THREADS {
+        return Err(ExecutionError::BadThreadCount(threads));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("kessler-sim-{i}"))
+        .build()
+        .map_err(|source| ExecutionError::Pool { threads, source })
+}
+
+/// Hardware threads of this machine (1 if unknown).
+pub fn available_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Data that can be cut into two contiguous parts: slices, index ranges and
+/// tuples of equally long ones (the columns of one ECS table).
+pub trait Split: Sized + Send {
+    /// Number of items.
+    fn len(&self) -> usize;
+    /// True when there are no items.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The first `mid` items and the rest.
+    fn split_at(self, mid: usize) -> (Self, Self);
+}
+
+impl<T: Sync> Split for &[T] {
+    fn len(&self) -> usize {
+        <[T]>::len(self)
+    }
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        <[T]>::split_at(self, mid)
+    }
+}
+
+impl<T: Send> Split for &mut [T] {
+    fn len(&self) -> usize {
+        <[T]>::len(self)
+    }
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        self.split_at_mut(mid)
+    }
+}
+
+impl Split for Range<usize> {
+    fn len(&self) -> usize {
+        self.end.saturating_sub(self.start)
+    }
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        let cut = self.start + mid;
+        (self.start..cut, cut..self.end)
+    }
+}
+
+macro_rules! impl_split_for_tuple {
+    ($($column:ident . $index:tt),+) => {
+        impl<$($column: Split),+> Split for ($($column,)+) {
+            fn len(&self) -> usize {
+                let len = self.0.len();
+                $(debug_assert_eq!(self.$index.len(), len, "split columns differ in length");)+
+                len
+            }
+            fn split_at(self, mid: usize) -> (Self, Self) {
+                let halves = ($(self.$index.split_at(mid),)+);
+                (($(halves.$index.0,)+), ($(halves.$index.1,)+))
+            }
+        }
+    };
+}
+
+impl_split_for_tuple!(A.0, B.1);
+impl_split_for_tuple!(A.0, B.1, C.2);
+impl_split_for_tuple!(A.0, B.1, C.2, D.3);
+impl_split_for_tuple!(A.0, B.1, C.2, D.3, E.4);
+impl_split_for_tuple!(A.0, B.1, C.2, D.3, E.4, F.5);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parallel_map_keeps_input_order_and_covers_every_item() {
+        let exec = Execution::new(ExecutionMode::Parallel, 3).unwrap();
+        let chunks = exec.map_chunks(0..10_007, 100, |r: Range<usize>| r);
+        assert!(chunks.len() > 1, "work of 100 grains must be split");
+        let flat: Vec<usize> = chunks.into_iter().flatten().collect();
+        assert_eq!(flat, (0..10_007).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn small_work_and_sequential_mode_run_whole() {
+        let par = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        assert_eq!(
+            par.map_chunks(0..199, 100, |r: Range<usize>| r),
+            vec![0..199]
+        );
+        let seq = Execution::new(ExecutionMode::Sequential, 2).unwrap();
+        assert_eq!(
+            seq.map_chunks(0..1_000_000, 1, |r: Range<usize>| r),
+            vec![0..1_000_000]
+        );
+    }
+
+    #[test]
+    fn tuples_of_slices_split_in_lockstep() {
+        let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        let a: Vec<u32> = (0..5000).collect();
+        let mut b = vec![0u32; 5000];
+        exec.for_chunks(
+            (a.as_slice(), b.as_mut_slice()),
+            64,
+            |(a, b): (&[u32], &mut [u32])| {
+                for (x, y) in a.iter().zip(b) {
+                    *y = x * 2;
+                }
+            },
+        );
+        assert!(b.iter().enumerate().all(|(i, &y)| y == 2 * i as u32));
+    }
+
+    #[test]
+    fn thread_count_is_checked() {
+        assert!(Execution::new(ExecutionMode::Parallel, 0).is_err());
+        assert!(Execution::new(ExecutionMode::Parallel, MAX_THREADS + 1).is_err());
+        let mut exec = Execution::new(ExecutionMode::Parallel, 1).unwrap();
+        exec.set_threads(3).unwrap();
+        assert_eq!(exec.threads(), 3);
+    }
+}

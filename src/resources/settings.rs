@@ -1,0 +1,42 @@
+//! Physical parameters and stage switches of the running simulation.
+
+use bevy::prelude::*;
+
+/// The physics of one simulation: set from the scenario, some changeable live.
+#[derive(Resource, Clone, Debug, PartialEq)]
+pub struct SimulationSettings {
+    /// Gravitational constant `G` (scenario units; the thesis used 6.674).
+    pub gravitational_constant: f32,
+    /// Simulated time per update, `dt`.
+    pub time_step: f32,
+    /// Softening length `ε`: gravity uses `(r² + ε²)^{3/2}`; 0 means none.
+    pub softening: f32,
+    /// Impact speed `|v1 − v2|` from which two interacting bodies shatter.
+    pub shatter_threshold: f32,
+    /// Fragments spawned per shatter; always ≥ 2.
+    pub shatter_fragments: u32,
+    /// Seed of every random choice the simulation makes (fragment spread).
+    pub seed: u64,
+    /// Gravity stage on/off. Off: adopters keep their velocity.
+    pub gravity: bool,
+    /// Broad phase on/off. Off: no pairs, so no responses.
+    pub collisions: bool,
+    /// Bounce and shatter on/off. Off: pairs are found but not acted on.
+    pub collision_response: bool,
+}
+
+impl Default for SimulationSettings {
+    fn default() -> Self {
+        Self {
+            gravitational_constant: 6.674,
+            time_step: 1.0,
+            softening: 0.0,
+            shatter_threshold: 3.0,
+            shatter_fragments: 5,
+            seed: 1,
+            gravity: true,
+            collisions: true,
+            collision_response: true,
+        }
+    }
+}

@@ -1,0 +1,189 @@
+//! Seeded random bodies: the thesis cloud and a debris shell in orbit.
+
+use bevy::math::{DQuat, DVec3, Vec3};
+
+use super::format::{Body, Cloud, Shell, Template};
+use crate::components::{BodyId, BodyState};
+use crate::rng::Rng;
+
+/// Draws tried per body before a cloud gives up on finding free space.
+const PLACEMENT_TRIES: u32 = 1000;
+
+fn body_state(id: u64, position: DVec3, velocity: DVec3, t: &Template) -> BodyState {
+    BodyState {
+        id: BodyId(id),
+        position: position.as_vec3(),
+        velocity: velocity.as_vec3(),
+        mass: t.mass,
+        half_extents: Vec3::from_array(t.half_extents),
+        role: t.role,
+        interacts: t.interacts,
+    }
+}
+
+/// True when a box of `half` at `p` touches or overlaps an explicit
+/// non-interacting body.
+fn inside_obstacle(p: DVec3, half: DVec3, obstacles: &[Body]) -> bool {
+    obstacles.iter().filter(|b| !b.interacts).any(|b| {
+        let reach = DVec3::from_array(b.half_extents.map(f64::from)) + half;
+        let d = (p - DVec3::from_array(b.position.map(f64::from))).abs();
+        d.cmple(reach).all()
+    })
+}
+
+/// Appends `cloud.count` bodies with ids from `first_id`. Errors when a body
+/// cannot be placed outside the non-interacting bodies.
+pub fn cloud(
+    cloud: &Cloud,
+    rng: &mut Rng,
+    first_id: u64,
+    obstacles: &[Body],
+    out: &mut Vec<BodyState>,
+) -> Result<(), String> {
+    let center = DVec3::from_array(cloud.center.map(f64::from));
+    let half_size = DVec3::from_array(cloud.half_size.map(f64::from));
+    let half = DVec3::from_array(cloud.body.half_extents.map(f64::from));
+    let speed = f64::from(cloud.max_speed);
+    for i in 0..cloud.count {
+        let mut tries = 0;
+        let position = loop {
+            let p = center
+                + DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0))
+                    * half_size;
+            if !inside_obstacle(p, half, obstacles) {
+                break p;
+            }
+            tries += 1;
+            if tries == PLACEMENT_TRIES {
+                return Err(format!(
+                    "no free space for body {i}: {PLACEMENT_TRIES} random positions all fell inside non-interacting bodies"
+                ));
+            }
+        };
+        let velocity = DVec3::new(
+            rng.symmetric(speed),
+            rng.symmetric(speed),
+            rng.symmetric(speed),
+        );
+        out.push(body_state(first_id + i, position, velocity, &cloud.body));
+    }
+    Ok(())
+}
+
+/// Appends `shell.count` bodies on near-circular orbits around `source`
+/// (circular speed from its mass alone), with ids from `first_id`.
+pub fn shell(
+    shell: &Shell,
+    rng: &mut Rng,
+    first_id: u64,
+    source: &Body,
+    gravitational_constant: f32,
+    out: &mut Vec<BodyState>,
+) {
+    let centre = DVec3::from_array(source.position.map(f64::from));
+    let centre_velocity = DVec3::from_array(source.velocity.map(f64::from));
+    let gm = f64::from(gravitational_constant) * f64::from(source.mass);
+    let (r_in, r_out) = (f64::from(shell.inner_radius), f64::from(shell.outer_radius));
+    let max_tilt = f64::from(shell.inclination).to_radians();
+    for i in 0..shell.count {
+        let r = rng.range(r_in, r_out);
+        // Orbit plane: the equator (x–z) tilted about a random line of nodes.
+        let node = rng.range(0.0, std::f64::consts::TAU);
+        let tilt = rng.range(-max_tilt, max_tilt);
+        let plane = DQuat::from_rotation_y(node) * DQuat::from_rotation_x(tilt);
+        let phase = rng.range(0.0, std::f64::consts::TAU);
+        let radial = plane * DVec3::new(phase.cos(), 0.0, phase.sin());
+        let normal = plane * DVec3::Y;
+        let mut speed = (gm / r).sqrt() * (1.0 + rng.symmetric(f64::from(shell.speed_jitter)));
+        if rng.unit() < f64::from(shell.retrograde_fraction) {
+            speed = -speed;
+        }
+        let velocity = centre_velocity + normal.cross(radial) * speed;
+        out.push(body_state(
+            first_id + i,
+            centre + radial * r,
+            velocity,
+            &shell.body,
+        ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::components::GravityRole;
+
+    fn planet() -> Body {
+        Body {
+            position: [0.0; 3],
+            velocity: [0.0; 3],
+            half_extents: [10.0; 3],
+            mass: 100.0,
+            role: GravityRole::Source,
+            interacts: false,
+        }
+    }
+
+    #[test]
+    fn cloud_stays_in_its_box_and_out_of_obstacles() {
+        let c = Cloud {
+            count: 2000,
+            center: [0.0; 3],
+            half_size: [12.0; 3],
+            max_speed: 5.0,
+            body: Template::default(),
+        };
+        let mut out = Vec::new();
+        cloud(&c, &mut Rng::new(3), 1, &[planet()], &mut out).unwrap();
+        assert_eq!(out.len(), 2000);
+        assert_eq!((out[0].id, out[1999].id), (BodyId(1), BodyId(2000)));
+        for b in &out {
+            assert!(b.position.abs().max_element() <= 12.0);
+            assert!(
+                b.position.abs().max_element() > 11.0,
+                "inside the planet: {}",
+                b.position
+            );
+            assert!(b.velocity.abs().max_element() <= 5.0);
+        }
+    }
+
+    #[test]
+    fn cloud_inside_a_wall_is_an_error() {
+        let c = Cloud {
+            count: 1,
+            center: [0.0; 3],
+            half_size: [5.0; 3],
+            max_speed: 0.0,
+            body: Template::default(),
+        };
+        assert!(cloud(&c, &mut Rng::new(3), 0, &[planet()], &mut Vec::new()).is_err());
+    }
+
+    #[test]
+    fn shell_orbits_are_circular_and_within_radius_and_tilt() {
+        let s = Shell {
+            count: 500,
+            around: 0,
+            inner_radius: 50.0,
+            outer_radius: 80.0,
+            inclination: 10.0,
+            speed_jitter: 0.0,
+            retrograde_fraction: 0.0,
+            body: Template::default(),
+        };
+        let mut out = Vec::new();
+        shell(&s, &mut Rng::new(9), 1, &planet(), 2.0, &mut out);
+        for b in &out {
+            let (p, v) = (b.position, b.velocity);
+            let r = p.length();
+            assert!((50.0..=80.0).contains(&r), "radius {r}");
+            // Circular: speed² = G·M / r, velocity ⟂ radius.
+            assert!((v.length_squared() - 200.0 / r).abs() < 1e-4 * 200.0 / r);
+            assert!(p.dot(v).abs() < 1e-3 * r * v.length());
+            // Prograde about +y, tilted at most 10°.
+            let n = p.cross(v).normalize();
+            assert!(n.y >= 10f32.to_radians().cos() - 1e-5, "normal {n}");
+        }
+    }
+}

@@ -1,0 +1,100 @@
+//! A simulation without a window: a Bevy app (MinimalPlugins) holding the
+//! bodies, stepped on demand. The command line, tests and benchmarks use it.
+
+use bevy::prelude::*;
+
+use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Velocity};
+use crate::resources::{Execution, NextBodyId, SimulationSettings, StageTimings};
+use crate::scenario::{Scenario, ScenarioError};
+use crate::systems::{SimulationPlugins, run_updates};
+
+/// A headless simulation.
+pub struct Simulation {
+    app: App,
+}
+
+impl Simulation {
+    /// A simulation of `bodies` (ids must be unique) with `settings`.
+    pub fn new(bodies: &[BodyState], settings: SimulationSettings, execution: Execution) -> Self {
+        let mut app = App::new();
+        app.add_plugins((MinimalPlugins, SimulationPlugins))
+            .insert_resource(settings)
+            .insert_resource(execution);
+        app.finish();
+        app.cleanup();
+        let world = app.world_mut();
+        world.spawn_batch(bodies.iter().map(BodyState::bundle).collect::<Vec<_>>());
+        let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
+        world.insert_resource(NextBodyId(next));
+        Self { app }
+    }
+
+    /// The bodies and settings of `scenario`; `origin` names it in errors.
+    pub fn from_scenario(
+        scenario: &Scenario,
+        origin: &str,
+        execution: Execution,
+    ) -> Result<Self, ScenarioError> {
+        Ok(Self::new(
+            &scenario.bodies(origin)?,
+            scenario.settings(),
+            execution,
+        ))
+    }
+
+    /// Runs `updates` simulation updates.
+    pub fn step(&mut self, updates: u64) {
+        run_updates(self.app.world_mut(), updates);
+    }
+
+    /// Every body's state, sorted by id.
+    pub fn snapshot(&mut self) -> Vec<BodyState> {
+        let world = self.app.world_mut();
+        let mut query = world.query::<(
+            &BodyId,
+            &Transform,
+            &Velocity,
+            &Mass,
+            &HalfExtents,
+            &GravityRole,
+            &Interacts,
+        )>();
+        let mut bodies: Vec<BodyState> = query
+            .iter(world)
+            .map(|(id, t, v, m, h, role, i)| BodyState {
+                id: *id,
+                position: t.translation,
+                velocity: v.0,
+                mass: m.0,
+                half_extents: h.0,
+                role: *role,
+                interacts: i.0,
+            })
+            .collect();
+        bodies.sort_unstable_by_key(|b| b.id);
+        bodies
+    }
+
+    /// Number of bodies now.
+    pub fn body_count(&mut self) -> usize {
+        let world = self.app.world_mut();
+        world.query::<&BodyId>().iter(world).len()
+    }
+
+    pub fn timings(&self) -> &StageTimings {
+        self.app.world().resource::<StageTimings>()
+    }
+
+    pub fn settings_mut(&mut self) -> Mut<'_, SimulationSettings> {
+        self.app.world_mut().resource_mut::<SimulationSettings>()
+    }
+
+    pub fn execution_mut(&mut self) -> Mut<'_, Execution> {
+        self.app.world_mut().resource_mut::<Execution>()
+    }
+
+    /// The app, for anything else.
+    pub fn app_mut(&mut self) -> &mut App {
+        &mut self.app
+    }
+}

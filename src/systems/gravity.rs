@@ -1,0 +1,208 @@
+//! Stage 1: gravitational acceleration of every adopter (DESIGN §2.1).
+//!
+//! `a_i = Σ_j G·m_j·(p_j − p_i) / (|p_j − p_i|² + ε²)^{3/2}` over all sources
+//! `j ≠ i` at non-zero distance, summed in f64 in ascending `BodyId` order.
+//! Each body's sum is independent of every other, so any split of the bodies
+//! gives the same bits.
+
+use std::time::Instant;
+
+use bevy::math::DVec3;
+use bevy::prelude::*;
+
+use crate::components::{Acceleration, BodyId, GravityRole, Mass};
+use crate::resources::{Execution, SimulationSettings, StageTimings};
+use crate::systems::{SimulationSystems, SimulationUpdate};
+
+/// A body that attracts others, as the kernel sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GravitySource {
+    pub id: BodyId,
+    pub position: DVec3,
+    /// `G·m`.
+    pub gm: f64,
+}
+
+/// The columns the gravity kernel reads and writes.
+pub type GravityColumns<'a> = (
+    &'a [BodyId],
+    &'a [Transform],
+    &'a [GravityRole],
+    &'a mut [Acceleration],
+);
+
+/// Bodies per parallel chunk for one source; divided by the source count.
+const GRAIN_WORK: usize = 32_768;
+
+/// Computes [`Acceleration`]s in [`SimulationSystems::Gravity`].
+pub struct GravityPlugin;
+
+impl Plugin for GravityPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(
+            SimulationUpdate,
+            apply_gravity
+                .in_set(SimulationSystems::Gravity)
+                .run_if(|s: Res<SimulationSettings>| s.gravity),
+        );
+    }
+}
+
+/// Acceleration of the body `id` at `position` due to `sources`.
+/// `softening2` is `ε²`. Non-finite input gives non-finite output; the
+/// caller keeps positions finite.
+#[inline]
+pub fn acceleration_at(
+    id: BodyId,
+    position: Vec3,
+    sources: &[GravitySource],
+    softening2: f64,
+) -> Vec3 {
+    let p = position.as_dvec3();
+    let mut a = DVec3::ZERO;
+    for s in sources {
+        let d = s.position - p;
+        let r2 = d.length_squared();
+        if s.id == id || r2 == 0.0 {
+            continue;
+        }
+        let r2 = r2 + softening2;
+        a += d * (s.gm / (r2 * r2.sqrt()));
+    }
+    a.as_vec3()
+}
+
+/// Kernel: writes the acceleration of every body in the columns — the
+/// gravitational pull for adopters, zero for all others.
+pub fn gravity_kernel(
+    (ids, transforms, roles, accelerations): GravityColumns<'_>,
+    sources: &[GravitySource],
+    softening2: f64,
+) {
+    for (((id, t), role), acc) in ids.iter().zip(transforms).zip(roles).zip(accelerations) {
+        acc.0 = if role.is_adopter() {
+            acceleration_at(*id, t.translation, sources, softening2)
+        } else {
+            Vec3::ZERO
+        };
+    }
+}
+
+/// The sources among `bodies`, sorted by id so the sum order is fixed.
+pub fn collect_sources<'a>(
+    bodies: impl Iterator<Item = (&'a BodyId, &'a Transform, &'a Mass, &'a GravityRole)>,
+    gravitational_constant: f64,
+    out: &mut Vec<GravitySource>,
+) {
+    out.clear();
+    out.extend(
+        bodies
+            .filter(|(.., role)| role.is_source())
+            .map(|(id, t, m, _)| GravitySource {
+                id: *id,
+                position: t.translation.as_dvec3(),
+                gm: gravitational_constant * f64::from(m.0),
+            }),
+    );
+    out.sort_unstable_by_key(|s| s.id);
+}
+
+fn apply_gravity(
+    settings: Res<SimulationSettings>,
+    execution: Res<Execution>,
+    mut timings: ResMut<StageTimings>,
+    mut sources: Local<Vec<GravitySource>>,
+    all: Query<(&BodyId, &Transform, &Mass, &GravityRole)>,
+    mut bodies: Query<(&BodyId, &Transform, &GravityRole, &mut Acceleration)>,
+) {
+    let start = Instant::now();
+    collect_sources(
+        all.iter(),
+        f64::from(settings.gravitational_constant),
+        &mut sources,
+    );
+    let softening2 = f64::from(settings.softening).powi(2);
+    let grain = (GRAIN_WORK / sources.len().max(1)).max(64);
+    let tables = bodies
+        .contiguous_iter_mut()
+        .expect("body components are table-stored");
+    for (ids, transforms, roles, mut accelerations) in tables {
+        let columns = (
+            ids,
+            transforms,
+            roles,
+            accelerations.bypass_change_detection(),
+        );
+        execution.for_chunks(columns, grain, |columns| {
+            gravity_kernel(columns, &sources, softening2)
+        });
+    }
+    timings.record(SimulationSystems::Gravity, start.elapsed());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn source(id: u64, p: [f64; 3], gm: f64) -> GravitySource {
+        GravitySource {
+            id: BodyId(id),
+            position: DVec3::from_array(p),
+            gm,
+        }
+    }
+
+    #[test]
+    fn inverse_square_towards_the_source() {
+        let sources = [source(0, [0.0, 0.0, 0.0], 8.0)];
+        let a = acceleration_at(BodyId(1), Vec3::new(2.0, 0.0, 0.0), &sources, 0.0);
+        assert_eq!(a, Vec3::new(-2.0, 0.0, 0.0)); // 8 / 2² towards the origin
+    }
+
+    #[test]
+    fn skips_itself_and_coincident_sources() {
+        let sources = [
+            source(0, [0.0, 0.0, 0.0], 1.0),
+            source(1, [3.0, 0.0, 0.0], 1.0),
+        ];
+        assert_eq!(
+            acceleration_at(BodyId(1), Vec3::new(3.0, 0.0, 0.0), &sources[1..], 0.0),
+            Vec3::ZERO
+        );
+        assert_eq!(
+            acceleration_at(BodyId(7), Vec3::ZERO, &sources[..1], 0.0),
+            Vec3::ZERO
+        );
+    }
+
+    #[test]
+    fn softening_bounds_the_pull_at_close_range() {
+        let sources = [source(0, [0.0, 0.0, 0.0], 1.0)];
+        let close = Vec3::new(1e-3, 0.0, 0.0);
+        let hard = acceleration_at(BodyId(1), close, &sources, 0.0).length();
+        let soft = acceleration_at(BodyId(1), close, &sources, 1.0).length();
+        assert!(hard > 1e5);
+        // |a| = r / (r² + ε²)^{3/2} ≈ r for ε = 1.
+        assert!((soft - 1e-3).abs() < 1e-6, "softened pull {soft}");
+    }
+
+    #[test]
+    fn kernel_zeroes_non_adopters() {
+        let ids = [BodyId(1), BodyId(2), BodyId(3), BodyId(4)];
+        let transforms = [Transform::from_xyz(1.0, 0.0, 0.0); 4];
+        let roles = [
+            GravityRole::Adopter,
+            GravityRole::Source,
+            GravityRole::Inert,
+            GravityRole::SourceAndAdopter,
+        ];
+        let mut acc = [Acceleration(Vec3::ONE); 4];
+        gravity_kernel(
+            (&ids, &transforms, &roles, &mut acc),
+            &[source(0, [0.0; 3], 1.0)],
+            0.0,
+        );
+        let x: Vec<f32> = acc.iter().map(|a| a.0.x).collect();
+        assert_eq!(x, [-1.0, 0.0, 0.0, -1.0]);
+    }
+}

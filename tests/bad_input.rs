@@ -1,0 +1,122 @@
+//! Bad input through the real binary: one clear line on stderr, exit code 2,
+//! no panic, nothing overwritten.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+fn kessler() -> Command {
+    Command::cargo_bin("kessler").unwrap()
+}
+
+/// The substring each corpus file's error must contain, from its first line
+/// (`// expect: ...`).
+fn expectation(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let first = text.lines().next().unwrap_or_default();
+    first
+        .strip_prefix("// expect: ")
+        .unwrap_or_else(|| panic!("{} lacks an expect line", path.display()))
+        .to_owned()
+}
+
+fn corpus() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> =
+        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/bad_scenarios"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+    files.sort();
+    files
+}
+
+fn assert_one_clear_line(stderr: &[u8], must_contain: &[&str]) {
+    let stderr = String::from_utf8_lossy(stderr);
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    assert_eq!(
+        stderr.trim_end().lines().count(),
+        1,
+        "not one line: {stderr}"
+    );
+    for needle in must_contain {
+        assert!(
+            stderr.contains(needle),
+            "{stderr:?} does not mention {needle:?}"
+        );
+    }
+}
+
+#[test]
+fn every_malformed_scenario_is_a_clear_error() {
+    let files = corpus();
+    assert!(files.len() >= 15, "corpus has only {} files", files.len());
+    let dir = tempfile::tempdir().unwrap();
+    let dump = dir.path().join("state.csv");
+    for file in files {
+        let name = file.display().to_string();
+        let expected = expectation(&file);
+        let out = kessler().arg("validate").arg(&file).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "validate {name}");
+        assert_one_clear_line(&out.stderr, &[&name, &expected]);
+
+        std::fs::write(&dump, "precious").unwrap();
+        let out = kessler()
+            .args(["headless", "--steps", "1", "--dump"])
+            .arg(&dump)
+            .arg(&file)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "headless {name}");
+        assert_one_clear_line(&out.stderr, &[&name, &expected]);
+        assert_eq!(
+            std::fs::read_to_string(&dump).unwrap(),
+            "precious",
+            "{name} overwrote the dump"
+        );
+    }
+}
+
+#[test]
+fn bad_arguments_are_clear_errors() {
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
+    let cases: [(&[&str], &str); 7] = [
+        (&["headless", scenario, "--steps", "-5"], "--steps"),
+        (&["headless", scenario, "--steps", "ten"], "--steps"),
+        (&["headless", scenario], "--steps"),
+        (
+            &["headless", scenario, "--steps", "1", "--mode", "fast"],
+            "--mode",
+        ),
+        (
+            &["headless", scenario, "--steps", "1", "--threads", "0"],
+            "--threads",
+        ),
+        (
+            &[
+                "headless",
+                scenario,
+                "--steps",
+                "1",
+                "--dump",
+                "/no/such/folder/x.csv",
+            ],
+            "/no/such/folder",
+        ),
+        (&["launch"], "launch"),
+    ];
+    for (args, needle) in cases {
+        let out = kessler().args(args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert_one_clear_line(&out.stderr, &[needle]);
+    }
+}
+
+#[test]
+fn missing_file_is_a_clear_error() {
+    let out = kessler()
+        .args(["validate", "no_such_scenario.ron"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert_one_clear_line(&out.stderr, &["no_such_scenario.ron", "cannot read"]);
+}
