@@ -23,7 +23,7 @@ impl Simulation {
         app.finish();
         app.cleanup();
         let world = app.world_mut();
-        world.spawn_batch(bodies.iter().map(BodyState::bundle).collect::<Vec<_>>());
+        world.spawn_batch(bodies.iter().map(BodyState::bundle)).for_each(drop);
         let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
         world.insert_resource(NextBodyId(next));
         Self { app }
