@@ -25,7 +25,9 @@ fn gravity_and_integration(c: &mut Criterion) {
         }
         for mode in [ExecutionMode::Sequential, ExecutionMode::Parallel] {
             let mut sim = orbiting(count, mode);
-            group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| b.iter(|| sim.step(1)));
+            group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
+                b.iter(|| sim.step(1))
+            });
         }
     }
     group.finish();

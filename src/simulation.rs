@@ -30,16 +30,8 @@ impl Simulation {
     }
 
     /// The bodies and settings of `scenario`; `origin` names it in errors.
-    pub fn from_scenario(
-        scenario: &Scenario,
-        origin: &str,
-        execution: Execution,
-    ) -> Result<Self, ScenarioError> {
-        Ok(Self::new(
-            &scenario.bodies(origin)?,
-            scenario.settings(),
-            execution,
-        ))
+    pub fn from_scenario(scenario: &Scenario, origin: &str, execution: Execution) -> Result<Self, ScenarioError> {
+        Ok(Self::new(&scenario.bodies(origin)?, scenario.settings(), execution))
     }
 
     /// Runs `updates` simulation updates.

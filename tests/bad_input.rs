@@ -21,11 +21,10 @@ fn expectation(path: &Path) -> String {
 }
 
 fn corpus() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> =
-        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/bad_scenarios"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .collect();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/bad_scenarios"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
     files
 }
@@ -33,16 +32,9 @@ fn corpus() -> Vec<PathBuf> {
 fn assert_one_clear_line(stderr: &[u8], must_contain: &[&str]) {
     let stderr = String::from_utf8_lossy(stderr);
     assert!(!stderr.contains("panicked"), "panic: {stderr}");
-    assert_eq!(
-        stderr.trim_end().lines().count(),
-        1,
-        "not one line: {stderr}"
-    );
+    assert_eq!(stderr.trim_end().lines().count(), 1, "not one line: {stderr}");
     for needle in must_contain {
-        assert!(
-            stderr.contains(needle),
-            "{stderr:?} does not mention {needle:?}"
-        );
+        assert!(stderr.contains(needle), "{stderr:?} does not mention {needle:?}");
     }
 }
 
@@ -83,23 +75,10 @@ fn bad_arguments_are_clear_errors() {
         (&["headless", scenario, "--steps", "-5"], "--steps"),
         (&["headless", scenario, "--steps", "ten"], "--steps"),
         (&["headless", scenario], "--steps"),
+        (&["headless", scenario, "--steps", "1", "--mode", "fast"], "--mode"),
+        (&["headless", scenario, "--steps", "1", "--threads", "0"], "--threads"),
         (
-            &["headless", scenario, "--steps", "1", "--mode", "fast"],
-            "--mode",
-        ),
-        (
-            &["headless", scenario, "--steps", "1", "--threads", "0"],
-            "--threads",
-        ),
-        (
-            &[
-                "headless",
-                scenario,
-                "--steps",
-                "1",
-                "--dump",
-                "/no/such/folder/x.csv",
-            ],
+            &["headless", scenario, "--steps", "1", "--dump", "/no/such/folder/x.csv"],
             "/no/such/folder",
         ),
         (&["launch"], "launch"),
@@ -113,10 +92,7 @@ fn bad_arguments_are_clear_errors() {
 
 #[test]
 fn missing_file_is_a_clear_error() {
-    let out = kessler()
-        .args(["validate", "no_such_scenario.ron"])
-        .output()
-        .unwrap();
+    let out = kessler().args(["validate", "no_such_scenario.ron"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert_one_clear_line(&out.stderr, &["no_such_scenario.ron", "cannot read"]);
 }

@@ -27,19 +27,9 @@ fn shipped_scenarios_validate() {
         ("thesis_cloud.ron", "10001 bodies"),
         ("debris_orbit.ron", "20002 bodies"),
     ] {
-        let out = kessler()
-            .args(["validate", &scenario(file)])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{file}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        assert!(
-            String::from_utf8_lossy(&out.stdout).contains(count),
-            "{file}"
-        );
+        let out = kessler().args(["validate", &scenario(file)]).output().unwrap();
+        assert!(out.status.success(), "{file}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(String::from_utf8_lossy(&out.stdout).contains(count), "{file}");
     }
 }
 
@@ -60,11 +50,7 @@ fn headless_dump_has_the_contract_format() {
         .arg(&dump)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let summary = String::from_utf8(out.stdout).unwrap();
     assert_eq!(summary.lines().count(), 1, "summary: {summary}");
     assert!(summary.contains("154 updates"), "{summary}");
@@ -77,11 +63,7 @@ fn headless_dump_has_the_contract_format() {
     assert_eq!(body.len(), 13);
     assert_eq!((body[0], body[11], body[12]), ("1", "Adopter", "true"));
     let x: f32 = body[1].parse().unwrap();
-    assert_eq!(
-        x.round(),
-        20.0,
-        "one revolution brings the body back to x = 20"
-    );
+    assert_eq!(x.round(), 20.0, "one revolution brings the body back to x = 20");
     // Shortest round-trip: printing the parsed value gives the same text.
     assert_eq!(x.to_string(), body[1]);
 }
@@ -107,11 +89,7 @@ fn dumps_agree_between_modes_byte_for_byte() {
             .arg(&path)
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         dumps.push(std::fs::read(&path).unwrap());
     }
     assert_eq!(dumps[0].len(), dumps[1].len());
@@ -121,10 +99,6 @@ fn dumps_agree_between_modes_byte_for_byte() {
 #[test]
 fn run_without_window_simulates_the_default_scene() {
     let out = kessler().output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stdout).contains("Debris in orbit"));
 }

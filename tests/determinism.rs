@@ -7,9 +7,10 @@ use kessler::scenario::Scenario;
 
 fn run(text: &str, mode: ExecutionMode, threads: usize, updates: u64) -> Vec<BodyState> {
     let scenario = Scenario::parse(text, "test").unwrap();
-    let mut sim =
-        Simulation::from_scenario(&scenario, "test", Execution::new(mode, threads).unwrap())
-            .unwrap();
+    let mut sim = Simulation::from_scenario(&scenario, "test", Execution::new(mode, threads).unwrap()).unwrap();
+    // Gravity and integration only: self-gravitating debris that shatters
+    // re-collapses and shatters again, which is a different test.
+    sim.settings_mut().collisions = false;
     sim.step(updates);
     sim.snapshot()
 }
@@ -51,11 +52,7 @@ fn n_body_cloud_is_bit_identical_in_both_modes() {
     // And the bodies really moved under each other's pull.
     let start = run(text, ExecutionMode::Sequential, 1, 0);
     let end = run(text, ExecutionMode::Sequential, 1, 200);
-    let moved = start
-        .iter()
-        .zip(&end)
-        .filter(|(a, b)| a.velocity != b.velocity)
-        .count();
+    let moved = start.iter().zip(&end).filter(|(a, b)| a.velocity != b.velocity).count();
     assert_eq!(moved, 2000);
 }
 

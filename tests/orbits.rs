@@ -91,10 +91,7 @@ fn inert_and_non_adopting_bodies_only_drift() {
     );
     assert_eq!(b[1].position.to_array(), [50.0, 10.0, 0.0]);
     assert_eq!(b[2].position.to_array(), [10.0, 50.0, 0.0]);
-    assert!(
-        b[3].position.z < 50.0,
-        "a SourceAndAdopter falls towards the sources"
-    );
+    assert!(b[3].position.z < 50.0, "a SourceAndAdopter falls towards the sources");
 }
 
 /// Semi-implicit Euler is symplectic: the energy of an eccentric orbit
@@ -122,10 +119,7 @@ fn eccentric_orbit_energy_stays_bounded() {
         let (p, v) = (b.position.as_dvec3(), b.velocity.as_dvec3());
         energies.push(v.length_squared() / 2.0 - gm / p.length());
     }
-    let worst = energies
-        .iter()
-        .map(|e| ((e - e0) / e0).abs())
-        .fold(0.0, f64::max);
+    let worst = energies.iter().map(|e| ((e - e0) / e0).abs()).fold(0.0, f64::max);
     assert!(
         worst < 0.02,
         "energy strayed {:.3} % from the analytic value",
@@ -133,10 +127,7 @@ fn eccentric_orbit_energy_stays_bounded() {
     );
     let mean = |xs: &[f64]| xs.iter().sum::<f64>() / xs.len() as f64;
     let span = (5 * period_updates) as usize;
-    let (first, last) = (
-        mean(&energies[..span]),
-        mean(&energies[energies.len() - span..]),
-    );
+    let (first, last) = (mean(&energies[..span]), mean(&energies[energies.len() - span..]));
     assert!(
         ((last - first) / e0).abs() < 1e-4,
         "energy drifted from {first} to {last} over {orbits} orbits"

@@ -24,10 +24,7 @@ fn check_dump_path(path: &Path) -> Result<(), Failure> {
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     if path.is_dir() {
-        return Err(Failure::input(format!(
-            "--dump {}: is a directory",
-            path.display()
-        )));
+        return Err(Failure::input(format!("--dump {}: is a directory", path.display())));
     }
     if !parent.is_dir() {
         return Err(Failure::input(format!(
@@ -67,11 +64,9 @@ pub fn simulate(
     let bodies_start = sim.body_count();
 
     let progress = ProgressBar::new(updates).with_style(
-        ProgressStyle::with_template(
-            "{spinner} {pos}/{len} updates [{bar:30}] {per_sec} eta {eta}",
-        )
-        .expect("template is valid")
-        .progress_chars("=> "),
+        ProgressStyle::with_template("{spinner} {pos}/{len} updates [{bar:30}] {per_sec} eta {eta}")
+            .expect("template is valid")
+            .progress_chars("=> "),
     );
     let start = Instant::now();
     // Steps in batches so the bar costs nothing measurable.

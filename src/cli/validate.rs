@@ -8,10 +8,6 @@ use super::{Failure, load_scenario};
 pub fn validate(path: &Path) -> Result<(), Failure> {
     let (scenario, origin) = load_scenario(Some(path))?;
     let bodies = scenario.bodies(&origin).map_err(Failure::input)?;
-    println!(
-        "{origin}: ok — \"{}\", {} bodies",
-        scenario.name,
-        bodies.len()
-    );
+    println!("{origin}: ok — \"{}\", {} bodies", scenario.name, bodies.len());
     Ok(())
 }

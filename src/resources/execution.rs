@@ -16,9 +16,7 @@ use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// How the simulation stages run.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
 pub enum ExecutionMode {
     /// Every stage on the calling thread.
     Sequential,
@@ -137,8 +135,7 @@ impl Execution {
         // A few chunks per thread lets work stealing even out uneven chunks.
         let chunk = grain.max(len.div_ceil(self.threads() * 4));
         let mut out = Vec::with_capacity(len.div_ceil(chunk));
-        self.pool
-            .install(|| split_recursive(data, chunk, &kernel, &mut out));
+        self.pool.install(|| split_recursive(data, chunk, &kernel, &mut out));
         out
     }
 }
@@ -260,15 +257,9 @@ mod tests {
     #[test]
     fn small_work_and_sequential_mode_run_whole() {
         let par = Execution::new(ExecutionMode::Parallel, 2).unwrap();
-        assert_eq!(
-            par.map_chunks(0..199, 100, |r: Range<usize>| r),
-            vec![0..199]
-        );
+        assert_eq!(par.map_chunks(0..199, 100, |r: Range<usize>| r), vec![0..199]);
         let seq = Execution::new(ExecutionMode::Sequential, 2).unwrap();
-        assert_eq!(
-            seq.map_chunks(0..1_000_000, 1, |r: Range<usize>| r),
-            vec![0..1_000_000]
-        );
+        assert_eq!(seq.map_chunks(0..1_000_000, 1, |r: Range<usize>| r), vec![0..1_000_000]);
     }
 
     #[test]
@@ -276,15 +267,11 @@ mod tests {
         let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap();
         let a: Vec<u32> = (0..5000).collect();
         let mut b = vec![0u32; 5000];
-        exec.for_chunks(
-            (a.as_slice(), b.as_mut_slice()),
-            64,
-            |(a, b): (&[u32], &mut [u32])| {
-                for (x, y) in a.iter().zip(b) {
-                    *y = x * 2;
-                }
-            },
-        );
+        exec.for_chunks((a.as_slice(), b.as_mut_slice()), 64, |(a, b): (&[u32], &mut [u32])| {
+            for (x, y) in a.iter().zip(b) {
+                *y = x * 2;
+            }
+        });
         assert!(b.iter().enumerate().all(|(i, &y)| y == 2 * i as u32));
     }
 

@@ -17,10 +17,7 @@ pub struct Scenario {
         deserialize_with = "checked::gravitational_constant"
     )]
     pub gravitational_constant: f32,
-    #[serde(
-        default = "defaults::time_step",
-        deserialize_with = "checked::time_step"
-    )]
+    #[serde(default = "defaults::time_step", deserialize_with = "checked::time_step")]
     pub time_step: f32,
     #[serde(default, deserialize_with = "checked::softening")]
     pub softening: f32,
@@ -50,10 +47,7 @@ pub struct Body {
     pub position: [f32; 3],
     #[serde(default, deserialize_with = "checked::velocity")]
     pub velocity: [f32; 3],
-    #[serde(
-        default = "defaults::half_extents",
-        deserialize_with = "checked::half_extents"
-    )]
+    #[serde(default = "defaults::half_extents", deserialize_with = "checked::half_extents")]
     pub half_extents: [f32; 3],
     #[serde(default = "defaults::mass", deserialize_with = "checked::mass")]
     pub mass: f32,
@@ -123,10 +117,7 @@ pub struct Shell {
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Template {
-    #[serde(
-        default = "defaults::half_extents",
-        deserialize_with = "checked::half_extents"
-    )]
+    #[serde(default = "defaults::half_extents", deserialize_with = "checked::half_extents")]
     pub half_extents: [f32; 3],
     #[serde(default = "defaults::mass", deserialize_with = "checked::mass")]
     pub mass: f32,

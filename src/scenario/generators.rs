@@ -47,9 +47,7 @@ pub fn cloud(
     for i in 0..cloud.count {
         let mut tries = 0;
         let position = loop {
-            let p = center
-                + DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0))
-                    * half_size;
+            let p = center + DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0)) * half_size;
             if !inside_obstacle(p, half, obstacles) {
                 break p;
             }
@@ -60,11 +58,7 @@ pub fn cloud(
                 ));
             }
         };
-        let velocity = DVec3::new(
-            rng.symmetric(speed),
-            rng.symmetric(speed),
-            rng.symmetric(speed),
-        );
+        let velocity = DVec3::new(rng.symmetric(speed), rng.symmetric(speed), rng.symmetric(speed));
         out.push(body_state(first_id + i, position, velocity, &cloud.body));
     }
     Ok(())
@@ -99,12 +93,7 @@ pub fn shell(
             speed = -speed;
         }
         let velocity = centre_velocity + normal.cross(radial) * speed;
-        out.push(body_state(
-            first_id + i,
-            centre + radial * r,
-            velocity,
-            &shell.body,
-        ));
+        out.push(body_state(first_id + i, centre + radial * r, velocity, &shell.body));
     }
 }
 

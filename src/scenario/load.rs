@@ -48,8 +48,7 @@ impl ScenarioError {
 impl Scenario {
     /// Parses RON text; `origin` names it in errors (usually the path).
     pub fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
-        let options =
-            ron::Options::default().with_default_extension(Extensions::UNWRAP_VARIANT_NEWTYPES);
+        let options = ron::Options::default().with_default_extension(Extensions::UNWRAP_VARIANT_NEWTYPES);
         let scenario: Self = options.from_str(text).map_err(|e| ScenarioError {
             origin: origin.to_owned(),
             location: Some((e.span.start.line, e.span.start.col)),
@@ -118,9 +117,7 @@ impl Scenario {
         if total > MAX_BODIES {
             return Err(ScenarioError::new(
                 origin,
-                format!(
-                    "field `generators`: {total} bodies in all would not fit in memory (at most {MAX_BODIES})"
-                ),
+                format!("field `generators`: {total} bodies in all would not fit in memory (at most {MAX_BODIES})"),
             ));
         }
         Ok(())
@@ -169,11 +166,8 @@ impl Scenario {
             let mut rng = Rng::stream(self.seed, i as u64);
             let first_id = out.len() as u64;
             match generator {
-                Generator::Cloud(c) => {
-                    generators::cloud(c, &mut rng, first_id, &self.bodies, &mut out).map_err(
-                        |e| ScenarioError::new(origin, format!("generators[{i}] (Cloud): {e}")),
-                    )?
-                }
+                Generator::Cloud(c) => generators::cloud(c, &mut rng, first_id, &self.bodies, &mut out)
+                    .map_err(|e| ScenarioError::new(origin, format!("generators[{i}] (Cloud): {e}")))?,
                 Generator::Shell(s) => {
                     // `check` made sure the source exists.
                     generators::shell(
@@ -209,14 +203,8 @@ mod tests {
             "example",
         )
         .unwrap();
-        assert_eq!(
-            (s.gravitational_constant, s.time_step, s.softening),
-            (6.674, 1.0, 0.0)
-        );
-        assert_eq!(
-            (s.shatter_threshold, s.shatter_fragments, s.seed),
-            (3.0, 5, 1)
-        );
+        assert_eq!((s.gravitational_constant, s.time_step, s.softening), (6.674, 1.0, 0.0));
+        assert_eq!((s.shatter_threshold, s.shatter_fragments, s.seed), (3.0, 5, 1));
         let bodies = s.bodies("example").unwrap();
         assert_eq!(bodies.len(), 2);
         let b = bodies[1];

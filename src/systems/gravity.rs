@@ -24,12 +24,7 @@ pub struct GravitySource {
 }
 
 /// The columns the gravity kernel reads and writes.
-pub type GravityColumns<'a> = (
-    &'a [BodyId],
-    &'a [Transform],
-    &'a [GravityRole],
-    &'a mut [Acceleration],
-);
+pub type GravityColumns<'a> = (&'a [BodyId], &'a [Transform], &'a [GravityRole], &'a mut [Acceleration]);
 
 /// Bodies per parallel chunk for one source; divided by the source count.
 const GRAIN_WORK: usize = 32_768;
@@ -52,12 +47,7 @@ impl Plugin for GravityPlugin {
 /// `softening2` is `ε²`. Non-finite input gives non-finite output; the
 /// caller keeps positions finite.
 #[inline]
-pub fn acceleration_at(
-    id: BodyId,
-    position: Vec3,
-    sources: &[GravitySource],
-    softening2: f64,
-) -> Vec3 {
+pub fn acceleration_at(id: BodyId, position: Vec3, sources: &[GravitySource], softening2: f64) -> Vec3 {
     let p = position.as_dvec3();
     let mut a = DVec3::ZERO;
     for s in sources {
@@ -116,26 +106,13 @@ fn apply_gravity(
     mut bodies: Query<(&BodyId, &Transform, &GravityRole, &mut Acceleration)>,
 ) {
     let start = Instant::now();
-    collect_sources(
-        all.iter(),
-        f64::from(settings.gravitational_constant),
-        &mut sources,
-    );
+    collect_sources(all.iter(), f64::from(settings.gravitational_constant), &mut sources);
     let softening2 = f64::from(settings.softening).powi(2);
     let grain = (GRAIN_WORK / sources.len().max(1)).max(64);
-    let tables = bodies
-        .contiguous_iter_mut()
-        .expect("body components are table-stored");
+    let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     for (ids, transforms, roles, mut accelerations) in tables {
-        let columns = (
-            ids,
-            transforms,
-            roles,
-            accelerations.bypass_change_detection(),
-        );
-        execution.for_chunks(columns, grain, |columns| {
-            gravity_kernel(columns, &sources, softening2)
-        });
+        let columns = (ids, transforms, roles, accelerations.bypass_change_detection());
+        execution.for_chunks(columns, grain, |columns| gravity_kernel(columns, &sources, softening2));
     }
     timings.record(SimulationSystems::Gravity, start.elapsed());
 }
@@ -161,18 +138,12 @@ mod tests {
 
     #[test]
     fn skips_itself_and_coincident_sources() {
-        let sources = [
-            source(0, [0.0, 0.0, 0.0], 1.0),
-            source(1, [3.0, 0.0, 0.0], 1.0),
-        ];
+        let sources = [source(0, [0.0, 0.0, 0.0], 1.0), source(1, [3.0, 0.0, 0.0], 1.0)];
         assert_eq!(
             acceleration_at(BodyId(1), Vec3::new(3.0, 0.0, 0.0), &sources[1..], 0.0),
             Vec3::ZERO
         );
-        assert_eq!(
-            acceleration_at(BodyId(7), Vec3::ZERO, &sources[..1], 0.0),
-            Vec3::ZERO
-        );
+        assert_eq!(acceleration_at(BodyId(7), Vec3::ZERO, &sources[..1], 0.0), Vec3::ZERO);
     }
 
     #[test]
@@ -197,11 +168,7 @@ mod tests {
             GravityRole::SourceAndAdopter,
         ];
         let mut acc = [Acceleration(Vec3::ONE); 4];
-        gravity_kernel(
-            (&ids, &transforms, &roles, &mut acc),
-            &[source(0, [0.0; 3], 1.0)],
-            0.0,
-        );
+        gravity_kernel((&ids, &transforms, &roles, &mut acc), &[source(0, [0.0; 3], 1.0)], 0.0);
         let x: Vec<f32> = acc.iter().map(|a| a.0.x).collect();
         assert_eq!(x, [-1.0, 0.0, 0.0, -1.0]);
     }

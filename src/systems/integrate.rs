@@ -28,10 +28,7 @@ pub struct IntegratePlugin;
 
 impl Plugin for IntegratePlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(
-            SimulationUpdate,
-            integrate.in_set(SimulationSystems::Integrate),
-        );
+        app.add_systems(SimulationUpdate, integrate.in_set(SimulationSystems::Integrate));
     }
 }
 
@@ -71,9 +68,7 @@ fn integrate(
 ) {
     let start = Instant::now();
     let (dt, kick) = (settings.time_step, settings.gravity);
-    let tables = bodies
-        .contiguous_iter_mut()
-        .expect("body components are table-stored");
+    let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     for (roles, accelerations, mut velocities, mut transforms, mut previous) in tables {
         let columns = (
             roles,
@@ -82,9 +77,7 @@ fn integrate(
             transforms.bypass_change_detection(),
             previous.bypass_change_detection(),
         );
-        execution.for_chunks(columns, GRAIN, |columns| {
-            integrate_kernel(columns, dt, kick)
-        });
+        execution.for_chunks(columns, GRAIN, |columns| integrate_kernel(columns, dt, kick));
     }
     timings.record(SimulationSystems::Integrate, start.elapsed());
 }

@@ -82,9 +82,6 @@ pub fn run_updates(world: &mut World, updates: u64) {
     for _ in 0..updates {
         let start = Instant::now();
         world.run_schedule(SimulationUpdate);
-        world
-            .resource_mut::<StageTimings>()
-            .update
-            .record(start.elapsed());
+        world.resource_mut::<StageTimings>().update.record(start.elapsed());
     }
 }

@@ -1,0 +1,368 @@
+//! Stage 3: sweep and prune (DESIGN §2.3) — every pair of overlapping boxes.
+//!
+//! Boxes are gathered from the ECS tables, sorted by their lower x bound
+//! (a stable radix sort, so ties keep table order and the result is one fixed
+//! permutation), then each box scans forward over the boxes that start
+//! before it ends on x and confirms y and z. Touching counts as overlap. The
+//! forward scan of box `i` reads only the sorted array, so scans run in
+//! parallel on contiguous ranges of `i` and their pairs are concatenated in
+//! order. The cost is O(N + pairs on x): a big box (the planet) adds one
+//! scan over the boxes inside its x-slab, not a comparison with every box
+//! on every step of the sweep.
+
+use std::time::Instant;
+
+use bevy::prelude::*;
+
+use crate::components::{BodyId, HalfExtents};
+use crate::resources::{Execution, SimulationSettings, StageTimings};
+use crate::systems::{SimulationSystems, SimulationUpdate};
+
+/// Boxes per parallel chunk of the gather and of the sweep.
+const GRAIN: usize = 4096;
+
+/// An axis-aligned box by its corners.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    pub fn new(center: Vec3, half_extents: Vec3) -> Self {
+        Self {
+            min: center - half_extents,
+            max: center + half_extents,
+        }
+    }
+
+    /// Overlap on y and z, bounds inclusive.
+    #[inline]
+    fn overlaps_yz(&self, other: &Self) -> bool {
+        self.min.y <= other.max.y && other.min.y <= self.max.y && self.min.z <= other.max.z && other.min.z <= self.max.z
+    }
+
+    /// Overlap on all axes, bounds inclusive.
+    pub fn overlaps(&self, other: &Self) -> bool {
+        self.min.x <= other.max.x && other.min.x <= self.max.x && self.overlaps_yz(other)
+    }
+}
+
+/// Two overlapping bodies: ids `a < b` and their entities.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pair {
+    pub a: BodyId,
+    pub b: BodyId,
+    pub entity_a: Entity,
+    pub entity_b: Entity,
+}
+
+/// The broad phase's output: overlapping pairs of this update, sorted by
+/// `(a, b)`.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct OverlappingPairs(pub Vec<Pair>);
+
+/// Buffers of the sweep, kept between updates.
+#[derive(Default)]
+pub struct SweepScratch {
+    keys: Vec<(u32, u32)>,
+    keys_tmp: Vec<(u32, u32)>,
+    sorted: Vec<Aabb>,
+}
+
+/// Finds [`OverlappingPairs`] in [`SimulationSystems::BroadPhase`].
+pub struct BroadPhasePlugin;
+
+impl Plugin for BroadPhasePlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<OverlappingPairs>().add_systems(
+            SimulationUpdate,
+            (
+                broad_phase.run_if(|s: Res<SimulationSettings>| s.collisions),
+                (|mut pairs: ResMut<OverlappingPairs>| pairs.0.clear())
+                    .run_if(|s: Res<SimulationSettings>| !s.collisions),
+            )
+                .in_set(SimulationSystems::BroadPhase),
+        );
+    }
+}
+
+/// Maps an f32 to a u32 with the same order (for all non-NaN values).
+#[inline]
+fn order_key(x: f32) -> u32 {
+    let bits = x.to_bits();
+    if bits & 0x8000_0000 != 0 {
+        !bits
+    } else {
+        bits | 0x8000_0000
+    }
+}
+
+/// Stable LSD radix sort of `(key, payload)` by key, 11 bits per pass.
+pub fn radix_sort(items: &mut Vec<(u32, u32)>, tmp: &mut Vec<(u32, u32)>) {
+    const BITS: u32 = 11;
+    const BUCKETS: usize = 1 << BITS;
+    tmp.clear();
+    tmp.resize(items.len(), (0, 0));
+    for pass in 0..3 {
+        let shift = pass * BITS;
+        let digit = |k: u32| ((k >> shift) as usize) & (BUCKETS - 1);
+        let mut offsets = [0usize; BUCKETS];
+        for &(k, _) in items.iter() {
+            offsets[digit(k)] += 1;
+        }
+        let mut sum = 0;
+        for o in offsets.iter_mut() {
+            let count = *o;
+            *o = sum;
+            sum += count;
+        }
+        for &item in items.iter() {
+            let d = digit(item.0);
+            tmp[offsets[d]] = item;
+            offsets[d] += 1;
+        }
+        std::mem::swap(items, tmp);
+    }
+}
+
+/// Kernel: the pairs `(i, j)`, `i < j`, of `sorted` (ordered by `min.x`)
+/// that overlap, for scans starting in `range`, in scan order.
+pub fn sweep(sorted: &[Aabb], range: std::ops::Range<usize>) -> Vec<(u32, u32)> {
+    let mut pairs = Vec::new();
+    for i in range {
+        let a = &sorted[i];
+        for (offset, b) in sorted[i + 1..].iter().enumerate() {
+            if b.min.x > a.max.x {
+                break;
+            }
+            if a.overlaps_yz(b) {
+                pairs.push((i as u32, (i + 1 + offset) as u32));
+            }
+        }
+    }
+    pairs
+}
+
+/// Sweep and prune over `boxes` (any order): every overlapping pair of
+/// indices into `boxes` exactly once, as `(i, j)` in sweep order. The same
+/// pairs in the same order in both execution modes.
+pub fn sweep_and_prune(boxes: &[Aabb], execution: &Execution, scratch: &mut SweepScratch) -> Vec<(u32, u32)> {
+    let SweepScratch { keys, keys_tmp, sorted } = scratch;
+    keys.clear();
+    keys.extend(boxes.iter().enumerate().map(|(i, b)| (order_key(b.min.x), i as u32)));
+    radix_sort(keys, keys_tmp);
+    sorted.clear();
+    sorted.extend(keys.iter().map(|&(_, i)| boxes[i as usize]));
+    let sorted = &*sorted;
+    let chunks = execution.map_chunks(0..sorted.len(), GRAIN, |range| sweep(sorted, range));
+    let order = &*keys;
+    chunks
+        .into_iter()
+        .flatten()
+        .map(|(i, j)| (order[i as usize].1, order[j as usize].1))
+        .collect()
+}
+
+/// Index pairs as id pairs `(lower, higher)`, sorted.
+pub fn id_pairs(index_pairs: &[(u32, u32)], ids: &[BodyId]) -> Vec<(BodyId, BodyId)> {
+    let mut pairs: Vec<(BodyId, BodyId)> = index_pairs
+        .iter()
+        .map(|&(i, j)| {
+            let (a, b) = (ids[i as usize], ids[j as usize]);
+            if a < b { (a, b) } else { (b, a) }
+        })
+        .collect();
+    pairs.sort_unstable();
+    pairs
+}
+
+/// What the broad phase gathers from the tables, in table order.
+#[derive(Default)]
+struct Gathered {
+    boxes: Vec<Aabb>,
+    ids: Vec<BodyId>,
+    entities: Vec<Entity>,
+}
+
+fn broad_phase(
+    execution: Res<Execution>,
+    mut timings: ResMut<StageTimings>,
+    mut pairs: ResMut<OverlappingPairs>,
+    mut gathered: Local<Gathered>,
+    mut scratch: Local<SweepScratch>,
+    bodies: Query<(Entity, &BodyId, &Transform, &HalfExtents)>,
+) {
+    let start = Instant::now();
+    let Gathered { boxes, ids, entities } = &mut *gathered;
+    let tables = bodies.contiguous_iter().expect("body components are table-stored");
+    let count = bodies.iter().len();
+    boxes.resize(count, Aabb::default());
+    ids.clear();
+    entities.clear();
+    let mut offset = 0;
+    for (table_entities, table_ids, transforms, halves) in tables {
+        let n = table_ids.len();
+        ids.extend_from_slice(table_ids);
+        entities.extend_from_slice(table_entities);
+        let columns = (transforms, halves, &mut boxes[offset..offset + n]);
+        execution.for_chunks(
+            columns,
+            GRAIN,
+            |(transforms, halves, out): (&[Transform], &[HalfExtents], &mut [Aabb])| {
+                for ((t, h), out) in transforms.iter().zip(halves).zip(out) {
+                    *out = Aabb::new(t.translation, h.0);
+                }
+            },
+        );
+        offset += n;
+    }
+    let index_pairs = sweep_and_prune(boxes, &execution, &mut scratch);
+    pairs.0.clear();
+    pairs.0.extend(index_pairs.iter().map(|&(i, j)| {
+        let (i, j) = if ids[i as usize] < ids[j as usize] {
+            (i, j)
+        } else {
+            (j, i)
+        };
+        Pair {
+            a: ids[i as usize],
+            b: ids[j as usize],
+            entity_a: entities[i as usize],
+            entity_b: entities[j as usize],
+        }
+    }));
+    pairs.0.sort_unstable_by_key(|p| (p.a, p.b));
+    timings.record(SimulationSystems::BroadPhase, start.elapsed());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::resources::ExecutionMode;
+    use crate::rng::Rng;
+
+    fn brute_force(boxes: &[Aabb]) -> Vec<(u32, u32)> {
+        let mut pairs = Vec::new();
+        for i in 0..boxes.len() {
+            for j in i + 1..boxes.len() {
+                if boxes[i].overlaps(&boxes[j]) {
+                    pairs.push((i as u32, j as u32));
+                }
+            }
+        }
+        pairs
+    }
+
+    fn normalized(mut pairs: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+        for p in &mut pairs {
+            *p = (p.0.min(p.1), p.0.max(p.1));
+        }
+        pairs.sort_unstable();
+        pairs
+    }
+
+    fn run(boxes: &[Aabb], mode: ExecutionMode) -> Vec<(u32, u32)> {
+        let exec = Execution::new(mode, 3).unwrap();
+        sweep_and_prune(boxes, &exec, &mut SweepScratch::default())
+    }
+
+    fn unit_boxes(centres: &[[f32; 3]]) -> Vec<Aabb> {
+        centres
+            .iter()
+            .map(|c| Aabb::new(Vec3::from_array(*c), Vec3::ONE))
+            .collect()
+    }
+
+    #[test]
+    fn thesis_case_1() {
+        let boxes = unit_boxes(&[
+            [0.0, -5.40142, 0.0],
+            [1.19985, -2.96523, -1.18883],
+            [-1.36591, -1.35558, 0.969402],
+            [0.020946, -0.334908, -0.316789],
+            [-0.971955, -4.24241, 2.78168],
+            [3.40919, 1.00089, 0.245847],
+            [-0.306667, -0.456765, 4.26992],
+            [0.491334, -3.66383, 1.29069],
+            [1.80999, 1.32266, 2.5045],
+        ]);
+        for mode in [ExecutionMode::Sequential, ExecutionMode::Parallel] {
+            assert_eq!(normalized(run(&boxes, mode)), vec![(0, 7), (2, 3), (4, 7)]);
+        }
+    }
+
+    #[test]
+    fn thesis_case_2() {
+        let boxes = unit_boxes(&[
+            [-1.81922, 0.13185, 1.43538],
+            [0.0, 2.0, 0.0],
+            [-0.570769, -0.697269, 0.466469],
+            [-2.56339, 1.2581, 2.37958],
+            [-1.30461, 2.89979, 1.12968],
+            [-2.7742, -1.23996, 1.75068],
+            [-0.848593, -3.80494, 1.73219],
+        ]);
+        let expected = vec![(0, 1), (0, 2), (0, 3), (0, 5), (1, 4), (2, 3), (3, 4)];
+        for mode in [ExecutionMode::Sequential, ExecutionMode::Parallel] {
+            assert_eq!(normalized(run(&boxes, mode)), expected);
+        }
+    }
+
+    /// Mixed sizes on a coarse grid, so many boxes touch exactly.
+    fn random_boxes(count: usize, seed: u64) -> Vec<Aabb> {
+        let mut rng = Rng::new(seed);
+        let mut grid = |scale: f64| (rng.range(0.0, scale) as f32 * 4.0).round() / 4.0;
+        (0..count)
+            .map(|i| {
+                let centre = Vec3::new(grid(60.0), grid(60.0), grid(60.0));
+                let half = if i % 97 == 0 {
+                    Vec3::new(grid(12.0) + 0.25, grid(12.0) + 0.25, grid(12.0) + 0.25)
+                } else {
+                    Vec3::new(grid(1.5) + 0.25, grid(1.5) + 0.25, grid(1.5) + 0.25)
+                };
+                Aabb::new(centre, half)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn matches_brute_force_on_random_mixed_boxes_with_touches() {
+        for seed in 0..3 {
+            let boxes = random_boxes(3000 + seed as usize * 1000, seed);
+            let expected = brute_force(&boxes);
+            let touching = expected
+                .iter()
+                .filter(|&&(i, j)| {
+                    let (a, b) = (boxes[i as usize], boxes[j as usize]);
+                    (0..3).any(|k| a.max[k] == b.min[k] || b.max[k] == a.min[k])
+                })
+                .count();
+            assert!(touching > 50, "only {touching} exact touches: the test lost its edge");
+            let sequential = run(&boxes, ExecutionMode::Sequential);
+            let parallel = run(&boxes, ExecutionMode::Parallel);
+            assert_eq!(sequential, parallel, "modes disagree");
+            assert_eq!(normalized(sequential), expected);
+        }
+    }
+
+    #[test]
+    fn radix_sort_is_a_stable_sort() {
+        let mut rng = Rng::new(5);
+        let mut items: Vec<(u32, u32)> = (0..10_000)
+            .map(|i| ((rng.next_u64() % 3000) as u32 * 1_000_003, i))
+            .collect();
+        let mut expected = items.clone();
+        expected.sort_by_key(|&(k, _)| k);
+        radix_sort(&mut items, &mut Vec::new());
+        assert_eq!(items, expected);
+    }
+
+    #[test]
+    fn order_key_preserves_float_order() {
+        let xs = [-1e30f32, -5.0, -1.0, -0.0, 0.0, 1e-40, 1.0, 2.5, 1e30];
+        for w in xs.windows(2) {
+            assert!(order_key(w[0]) <= order_key(w[1]), "{} vs {}", w[0], w[1]);
+        }
+    }
+}

@@ -1,0 +1,198 @@
+//! Stage 5: shattering (DESIGN §2.4) — pairs marked by the response are
+//! removed and replaced by fragments.
+//!
+//! `c` fragments share the pair's mass equally, keep its total box volume
+//! (half-extent `l = ∛((h1x·h1y·h1z + h2x·h2y·h2z)/c)`) and its momentum: each
+//! starts at the centre of mass plus an offset, with the centre-of-mass
+//! velocity plus an outward spread whose mean is subtracted. Offsets are
+//! well-spread directions scaled so that no two fragments touch. The random
+//! rotation and speeds come from a stream keyed by the pair's ids, and
+//! fragments get fresh ids in pair order, so the result does not depend on
+//! how the stage is executed.
+
+use std::time::Instant;
+
+use bevy::math::{DQuat, DVec3};
+use bevy::prelude::*;
+
+use crate::components::{BodyId, BodyState, GravityRole};
+use crate::resources::{NextBodyId, SimulationSettings, StageTimings};
+use crate::rng::Rng;
+use crate::systems::{PendingShatters, SimulationSystems, SimulationUpdate};
+
+/// Spread speed of fragments relative to the centre of mass, as a share of
+/// the impact speed.
+pub const SPREAD: f64 = 0.2;
+
+/// Clearance between neighbouring fragments, as a share of their edge.
+const CLEARANCE: f64 = 0.05;
+
+/// Replaces shattered pairs by fragments in [`SimulationSystems::Shatter`].
+pub struct ShatterPlugin;
+
+impl Plugin for ShatterPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(SimulationUpdate, shatter.in_set(SimulationSystems::Shatter));
+    }
+}
+
+/// `count` points spread evenly over the unit sphere (a Fibonacci lattice).
+fn sphere_points(count: u32) -> Vec<DVec3> {
+    let n = f64::from(count);
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..count)
+        .map(|i| {
+            let y = 1.0 - (f64::from(i) + 0.5) * 2.0 / n;
+            let r = (1.0 - y * y).sqrt();
+            let phi = golden * f64::from(i);
+            DVec3::new(r * phi.cos(), y, r * phi.sin())
+        })
+        .collect()
+}
+
+/// Kernel: the fragments of bodies `a` and `b`, with ids from `first_id`.
+/// `count` ≥ 2 (the scenario check guarantees it).
+pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: BodyId) -> Vec<BodyState> {
+    assert!(count >= 2, "shatter needs at least 2 fragments");
+    let (m1, m2) = (f64::from(a.mass), f64::from(b.mass));
+    let total = m1 + m2;
+    let centre = (a.position.as_dvec3() * m1 + b.position.as_dvec3() * m2) / total;
+    let velocity = (a.velocity.as_dvec3() * m1 + b.velocity.as_dvec3() * m2) / total;
+    let volume = |h: Vec3| f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
+    let half = ((volume(a.half_extents) + volume(b.half_extents)) / f64::from(count)).cbrt();
+    let impact = (a.velocity - b.velocity).as_dvec3().length();
+
+    let mut rng = Rng::stream(seed, a.id.0.min(b.id.0) ^ (a.id.0.max(b.id.0) << 32));
+    let turn = DQuat::from_euler(
+        EulerRot::YXZ,
+        rng.range(0.0, std::f64::consts::TAU),
+        rng.range(0.0, std::f64::consts::TAU),
+        rng.range(0.0, std::f64::consts::TAU),
+    );
+    let directions: Vec<DVec3> = sphere_points(count).into_iter().map(|d| turn * d).collect();
+    // Scale the directions so that every two boxes are apart on some axis.
+    let mut closest = f64::INFINITY;
+    for (i, p) in directions.iter().enumerate() {
+        for q in &directions[i + 1..] {
+            closest = closest.min((*p - *q).abs().max_element());
+        }
+    }
+    let radius = 2.0 * half * (1.0 + CLEARANCE) / closest;
+    let spreads: Vec<DVec3> = directions
+        .iter()
+        .map(|d| *d * impact * SPREAD * rng.range(0.5, 1.0))
+        .collect();
+    let mean_spread = spreads.iter().copied().sum::<DVec3>() / f64::from(count);
+
+    let role = match (
+        a.role.is_source() || b.role.is_source(),
+        a.role.is_adopter() || b.role.is_adopter(),
+    ) {
+        (true, true) => GravityRole::SourceAndAdopter,
+        (true, false) => GravityRole::Source,
+        (false, true) => GravityRole::Adopter,
+        (false, false) => GravityRole::Inert,
+    };
+    directions
+        .iter()
+        .zip(&spreads)
+        .enumerate()
+        .map(|(i, (d, s))| BodyState {
+            id: BodyId(first_id.0 + i as u64),
+            position: (centre + *d * radius).as_vec3(),
+            velocity: (velocity + *s - mean_spread).as_vec3(),
+            mass: (total / f64::from(count)) as f32,
+            half_extents: Vec3::splat(half as f32),
+            role,
+            interacts: true,
+        })
+        .collect()
+}
+
+fn shatter(
+    settings: Res<SimulationSettings>,
+    mut timings: ResMut<StageTimings>,
+    mut pending: ResMut<PendingShatters>,
+    mut next_id: ResMut<NextBodyId>,
+    mut commands: Commands,
+) {
+    let start = Instant::now();
+    let count = settings.shatter_fragments;
+    for pair in pending.0.drain(..) {
+        for entity in pair.entities {
+            commands.entity(entity).despawn();
+        }
+        let [a, b] = &pair.bodies;
+        let first = BodyId(next_id.0);
+        next_id.0 += u64::from(count);
+        commands.spawn_batch(
+            fragments(a, b, count, settings.seed, first)
+                .iter()
+                .map(BodyState::bundle)
+                .collect::<Vec<_>>(),
+        );
+    }
+    timings.record(SimulationSystems::Shatter, start.elapsed());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::systems::Aabb;
+
+    fn body(id: u64, position: [f32; 3], velocity: [f32; 3], mass: f32, half: [f32; 3]) -> BodyState {
+        BodyState {
+            id: BodyId(id),
+            position: Vec3::from_array(position),
+            velocity: Vec3::from_array(velocity),
+            mass,
+            half_extents: Vec3::from_array(half),
+            role: GravityRole::Adopter,
+            interacts: true,
+        }
+    }
+
+    #[test]
+    fn keeps_mass_volume_and_momentum() {
+        let a = body(3, [10.0, 0.0, 0.0], [4.0, 1.0, 0.0], 1.0, [1.0, 1.0, 1.0]);
+        let b = body(8, [11.5, 0.5, 0.0], [-2.0, 0.0, 0.5], 3.0, [1.0, 0.5, 2.0]);
+        for count in [2, 3, 5, 8, 27, 100] {
+            let f = fragments(&a, &b, count, 1, BodyId(100));
+            assert_eq!(f.len(), count as usize);
+            let mass: f64 = f.iter().map(|x| f64::from(x.mass)).sum();
+            assert!((mass - 4.0).abs() < 1e-5, "mass {mass}");
+            let volume: f64 = f.iter().map(|x| f64::from(x.half_extents.x).powi(3)).sum();
+            assert!((volume - 2.0).abs() < 1e-5, "half-volume {volume}");
+            let momentum: DVec3 = f.iter().map(|x| x.velocity.as_dvec3() * f64::from(x.mass)).sum();
+            let expected = DVec3::new(4.0 - 6.0, 1.0, 1.5);
+            assert!(
+                (momentum - expected).length() < 1e-5,
+                "{count}: momentum {momentum} vs {expected}"
+            );
+            assert!(f.iter().enumerate().all(|(i, x)| x.id == BodyId(100 + i as u64)));
+        }
+    }
+
+    #[test]
+    fn fragments_do_not_touch_each_other() {
+        let a = body(0, [0.0; 3], [3.0, 0.0, 0.0], 1.0, [1.0; 3]);
+        let b = body(1, [1.9, 0.0, 0.0], [-3.0, 0.0, 0.0], 1.0, [1.0; 3]);
+        for count in [2, 5, 12, 64, 300] {
+            let f = fragments(&a, &b, count, 7, BodyId(2));
+            let boxes: Vec<Aabb> = f.iter().map(|x| Aabb::new(x.position, x.half_extents)).collect();
+            for i in 0..boxes.len() {
+                for j in i + 1..boxes.len() {
+                    assert!(!boxes[i].overlaps(&boxes[j]), "{count} fragments: {i} and {j} touch");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn spread_is_seeded_and_keyed_by_the_pair() {
+        let a = body(0, [0.0; 3], [3.0, 0.0, 0.0], 1.0, [1.0; 3]);
+        let b = body(1, [1.9, 0.0, 0.0], [-3.0, 0.0, 0.0], 1.0, [1.0; 3]);
+        assert_eq!(fragments(&a, &b, 5, 1, BodyId(2)), fragments(&b, &a, 5, 1, BodyId(2)));
+        assert_ne!(fragments(&a, &b, 5, 1, BodyId(2)), fragments(&a, &b, 5, 2, BodyId(2)));
+    }
+}
