@@ -6,7 +6,7 @@ use bevy::prelude::*;
 use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Velocity};
 use crate::resources::{Execution, NextBodyId, SimulationSettings, StageTimings};
 use crate::scenario::{Scenario, ScenarioError};
-use crate::systems::{SimulationPlugins, run_updates};
+use crate::systems::{CollisionStats, SimulationPlugins, run_updates};
 
 /// A headless simulation.
 pub struct Simulation {
@@ -71,6 +71,11 @@ impl Simulation {
     pub fn body_count(&mut self) -> usize {
         let world = self.app.world_mut();
         world.query::<&BodyId>().iter(world).len()
+    }
+
+    /// What collisions did in the last update, and shatters so far.
+    pub fn collision_stats(&self) -> CollisionStats {
+        *self.app.world().resource::<CollisionStats>()
     }
 
     pub fn timings(&self) -> &StageTimings {

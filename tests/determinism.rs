@@ -7,7 +7,14 @@ use kessler::scenario::Scenario;
 
 fn run(text: &str, mode: ExecutionMode, threads: usize, updates: u64) -> Vec<BodyState> {
     let scenario = Scenario::parse(text, "test").unwrap();
-    let mut sim = Simulation::from_scenario(&scenario, "test", Execution::new(mode, threads).unwrap()).unwrap();
+    let execution = Execution::new(mode, threads).unwrap();
+    // Parallel runs split every kernel finely, so chunk boundaries are tested.
+    let execution = if mode == ExecutionMode::Parallel {
+        execution.fine_grained()
+    } else {
+        execution
+    };
+    let mut sim = Simulation::from_scenario(&scenario, "test", execution).unwrap();
     // Gravity and integration only: self-gravitating debris that shatters
     // re-collapses and shatters again, which is a different test.
     sim.settings_mut().collisions = false;

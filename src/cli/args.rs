@@ -23,6 +23,13 @@ pub enum Command {
     },
     /// Simulate without a window, print a summary and optionally dump the state.
     Headless(HeadlessArgs),
+    /// Print the overlapping pairs of a scenario's initial state as CSV `a,b`.
+    Pairs {
+        /// Scenario file (RON).
+        scenario: PathBuf,
+        #[command(flatten)]
+        execution: ExecutionArgs,
+    },
     /// Check a scenario file: exit code 0, or a clear error and exit code 2.
     Validate {
         /// Scenario file (RON).

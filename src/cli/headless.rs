@@ -94,11 +94,12 @@ pub fn simulate(
         elapsed.as_secs_f64() * 1e3 / updates as f64
     };
     println!(
-        "{}: {} updates of {} bodies ({} at the end) in {:.3} s, {:.3} ms/update, {mode} on {threads} thread{}{}",
+        "{}: {} updates of {} bodies ({} at the end, {} shatters) in {:.3} s, {:.3} ms/update, {mode} on {threads} thread{}{}",
         scenario.name,
         updates,
         bodies_start,
         sim.body_count(),
+        sim.collision_stats().shatters_total,
         elapsed.as_secs_f64(),
         per_update_ms,
         if threads == 1 { "" } else { "s" },

@@ -2,6 +2,7 @@
 
 mod args;
 mod headless;
+mod pairs;
 mod validate;
 
 pub use args::*;
@@ -73,6 +74,7 @@ fn dispatch(command: Option<Command>) -> Result<(), Failure> {
     match command.unwrap_or(Command::Run { scenario: None }) {
         Command::Run { scenario } => run(scenario),
         Command::Headless(args) => headless::headless(&args),
+        Command::Pairs { scenario, execution } => pairs::pairs(&scenario, &execution),
         Command::Validate { scenario } => validate::validate(&scenario),
     }
 }

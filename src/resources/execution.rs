@@ -50,6 +50,8 @@ pub const MAX_THREADS: usize = 256;
 pub struct Execution {
     mode: ExecutionMode,
     pool: Arc<rayon::ThreadPool>,
+    /// Ignore the callers' grains and split all work as finely as possible.
+    fine_grained: bool,
 }
 
 impl fmt::Debug for Execution {
@@ -79,12 +81,21 @@ impl Execution {
         Ok(Self {
             mode,
             pool: Arc::new(build_pool(threads)?),
+            fine_grained: false,
         })
     }
 
     /// Parallel on every core of this machine.
     pub fn all_cores(mode: ExecutionMode) -> Result<Self, ExecutionError> {
         Self::new(mode, available_threads())
+    }
+
+    /// Splits every kernel, however small its input, into one-item-minimum
+    /// chunks in parallel mode: slow, but it puts every chunk boundary to
+    /// the test. For determinism tests.
+    pub fn fine_grained(mut self) -> Self {
+        self.fine_grained = true;
+        self
     }
 
     pub fn mode(&self) -> ExecutionMode {
@@ -128,7 +139,7 @@ impl Execution {
         K: Fn(S) -> R + Sync,
     {
         let len = data.len();
-        let grain = grain.max(1);
+        let grain = if self.fine_grained { 1 } else { grain.max(1) };
         if self.mode == ExecutionMode::Sequential || len < 2 * grain {
             return vec![kernel(data)];
         }

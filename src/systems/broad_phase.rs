@@ -164,13 +164,20 @@ pub fn sweep_and_prune(boxes: &[Aabb], execution: &Execution, scratch: &mut Swee
         .collect()
 }
 
+/// An index pair reordered so that the lower id comes first.
+#[inline]
+pub fn by_id((i, j): (u32, u32), ids: &[BodyId]) -> (usize, usize) {
+    let (i, j) = (i as usize, j as usize);
+    if ids[i] < ids[j] { (i, j) } else { (j, i) }
+}
+
 /// Index pairs as id pairs `(lower, higher)`, sorted.
 pub fn id_pairs(index_pairs: &[(u32, u32)], ids: &[BodyId]) -> Vec<(BodyId, BodyId)> {
     let mut pairs: Vec<(BodyId, BodyId)> = index_pairs
         .iter()
-        .map(|&(i, j)| {
-            let (a, b) = (ids[i as usize], ids[j as usize]);
-            if a < b { (a, b) } else { (b, a) }
+        .map(|&p| {
+            let (i, j) = by_id(p, ids);
+            (ids[i], ids[j])
         })
         .collect();
     pairs.sort_unstable();
@@ -219,17 +226,13 @@ fn broad_phase(
     }
     let index_pairs = sweep_and_prune(boxes, &execution, &mut scratch);
     pairs.0.clear();
-    pairs.0.extend(index_pairs.iter().map(|&(i, j)| {
-        let (i, j) = if ids[i as usize] < ids[j as usize] {
-            (i, j)
-        } else {
-            (j, i)
-        };
+    pairs.0.extend(index_pairs.iter().map(|&p| {
+        let (i, j) = by_id(p, ids);
         Pair {
-            a: ids[i as usize],
-            b: ids[j as usize],
-            entity_a: entities[i as usize],
-            entity_b: entities[j as usize],
+            a: ids[i],
+            b: ids[j],
+            entity_a: entities[i],
+            entity_b: entities[j],
         }
     }));
     pairs.0.sort_unstable_by_key(|p| (p.a, p.b));

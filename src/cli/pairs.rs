@@ -1,0 +1,31 @@
+//! `kessler pairs SCENARIO`: the overlapping pairs of the initial state.
+
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use super::headless::execution;
+use super::{ExecutionArgs, Failure, load_scenario};
+use crate::components::BodyId;
+use crate::systems::{Aabb, SweepScratch, id_pairs, sweep_and_prune};
+
+/// Prints `a,b` and then one line per overlapping pair, lower id first,
+/// sorted.
+pub fn pairs(path: &Path, args: &ExecutionArgs) -> Result<(), Failure> {
+    let (scenario, origin) = load_scenario(Some(path))?;
+    let bodies = scenario.bodies(&origin).map_err(Failure::input)?;
+    let boxes: Vec<Aabb> = bodies.iter().map(|b| Aabb::new(b.position, b.half_extents)).collect();
+    let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();
+    let found = sweep_and_prune(&boxes, &execution(args)?, &mut SweepScratch::default());
+    let mut out = BufWriter::new(std::io::stdout().lock());
+    let written = (|| {
+        writeln!(out, "a,b")?;
+        for (a, b) in id_pairs(&found, &ids) {
+            writeln!(out, "{},{}", a.0, b.0)?;
+        }
+        out.flush()
+    })();
+    written.map_err(|e| Failure {
+        message: format!("writing the pairs: {e}"),
+        code: 1,
+    })
+}
