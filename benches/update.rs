@@ -1,30 +1,55 @@
-//! Gravity + integration of N adopters around one source, sequential vs
-//! parallel: `cargo bench --bench update`.
+//! Whole simulation updates, sequential vs parallel (all hardware threads):
+//! `cargo bench --bench update`.
+//!
+//! - `thesis_update/*/N`: the thesis scene (N cubes in [1, 5000]³ around the
+//!   planet, shattering on) — every stage.
+//! - `gravity_integrate/*/N`: N adopters in orbit around one source with
+//!   collisions off — gravity and integration only.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use kessler::Simulation;
 use kessler::resources::{Execution, ExecutionMode, available_threads};
 use kessler::scenario::Scenario;
 
-/// N unit cubes on orbits between 800 and 1400 around a fixed planet.
-fn orbiting(count: u64, mode: ExecutionMode) -> Simulation {
-    let text = format!(
-        "Scenario(bodies: [Body(position: (0, 0, 0), half_extents: (430, 430, 430), mass: 4000, role: Source, interacts: false)],
-                  generators: [Shell(count: {count}, around: 0, inner_radius: 800, outer_radius: 1400, inclination: 30)])"
-    );
-    let scenario = Scenario::parse(&text, "bench").unwrap();
-    let execution = Execution::new(mode, available_threads()).unwrap();
-    Simulation::from_scenario(&scenario, "bench", execution).unwrap()
+const MODES: [ExecutionMode; 2] = [ExecutionMode::Sequential, ExecutionMode::Parallel];
+
+fn simulation(text: &str, mode: ExecutionMode) -> Simulation {
+    let scenario = Scenario::parse(text, "bench").unwrap();
+    Simulation::from_scenario(&scenario, "bench", Execution::new(mode, available_threads()).unwrap()).unwrap()
 }
 
-fn gravity_and_integration(c: &mut Criterion) {
-    let mut group = c.benchmark_group("gravity_integrate");
-    for count in [1_000, 10_000, 100_000, 1_000_000] {
+/// The thesis scene with `count` cubes.
+fn thesis(count: u64, mode: ExecutionMode) -> Simulation {
+    simulation(
+        &format!(
+            "Scenario(bodies: [Body(position: (2500, 2500, 2500), half_extents: (430, 430, 430), mass: 4000, role: Source, interacts: false)],
+                      generators: [Cloud(count: {count}, center: (2500.5, 2500.5, 2500.5), half_size: (2499.5, 2499.5, 2499.5), max_speed: 5.0)])"
+        ),
+        mode,
+    )
+}
+
+/// `count` cubes on orbits between 800 and 1400 around a fixed planet.
+fn orbiting(count: u64, mode: ExecutionMode) -> Simulation {
+    let mut sim = simulation(
+        &format!(
+            "Scenario(bodies: [Body(position: (0, 0, 0), half_extents: (430, 430, 430), mass: 4000, role: Source, interacts: false)],
+                      generators: [Shell(count: {count}, around: 0, inner_radius: 800, outer_radius: 1400, inclination: 30)])"
+        ),
+        mode,
+    );
+    sim.settings_mut().collisions = false;
+    sim
+}
+
+fn bench_updates(c: &mut Criterion, group: &str, counts: &[u64], make: fn(u64, ExecutionMode) -> Simulation) {
+    let mut group = c.benchmark_group(group);
+    for &count in counts {
         if count >= 100_000 {
             group.sample_size(20);
         }
-        for mode in [ExecutionMode::Sequential, ExecutionMode::Parallel] {
-            let mut sim = orbiting(count, mode);
+        for mode in MODES {
+            let mut sim = make(count, mode);
             group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
                 b.iter(|| sim.step(1))
             });
@@ -33,5 +58,13 @@ fn gravity_and_integration(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, gravity_and_integration);
+fn thesis_update(c: &mut Criterion) {
+    bench_updates(c, "thesis_update", &[1_000, 10_000, 100_000], thesis);
+}
+
+fn gravity_integrate(c: &mut Criterion) {
+    bench_updates(c, "gravity_integrate", &[1_000, 10_000, 100_000, 1_000_000], orbiting);
+}
+
+criterion_group!(benches, thesis_update, gravity_integrate);
 criterion_main!(benches);

@@ -10,6 +10,7 @@ use crate::Simulation;
 use crate::dump;
 use crate::resources::{Execution, available_threads};
 use crate::scenario::Scenario;
+use crate::systems::SimulationSystems;
 
 /// Makes the execution the arguments ask for.
 pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
@@ -93,8 +94,13 @@ pub fn simulate(
     } else {
         elapsed.as_secs_f64() * 1e3 / updates as f64
     };
+    let timings = sim.timings();
+    let stages: Vec<String> = SimulationSystems::ALL
+        .iter()
+        .map(|&stage| format!("{} {:.3}", stage.name(), timings.stage(stage).mean_ns / 1e6))
+        .collect();
     println!(
-        "{}: {} updates of {} bodies ({} at the end, {} shatters) in {:.3} s, {:.3} ms/update, {mode} on {threads} thread{}{}",
+        "{}: {} updates of {} bodies ({} at the end, {} shatters) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{}",
         scenario.name,
         updates,
         bodies_start,
@@ -102,6 +108,7 @@ pub fn simulate(
         sim.collision_stats().shatters_total,
         elapsed.as_secs_f64(),
         per_update_ms,
+        stages.join(", "),
         if threads == 1 { "" } else { "s" },
         dump_path
             .map(|p| format!("; state written to {}", p.display()))

@@ -11,6 +11,7 @@
 use std::fmt;
 use std::ops::Range;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -52,6 +53,8 @@ pub struct Execution {
     pool: Arc<rayon::ThreadPool>,
     /// Ignore the callers' grains and split all work as finely as possible.
     fine_grained: bool,
+    /// Set whenever work was split since the last [`install`](Self::install).
+    split_recently: Arc<AtomicBool>,
 }
 
 impl fmt::Debug for Execution {
@@ -82,6 +85,7 @@ impl Execution {
             mode,
             pool: Arc::new(build_pool(threads)?),
             fine_grained: false,
+            split_recently: Arc::new(AtomicBool::new(true)),
         })
     }
 
@@ -119,6 +123,19 @@ impl Execution {
         Ok(())
     }
 
+    /// Runs `f` on a worker of the pool in parallel mode when work was split
+    /// since the last call (the caller waits), else inline. A whole update
+    /// runs this way: when its stages split work, their serial parts then
+    /// run on a worker too, so the idle workers, which spin a while before
+    /// sleeping, do not compete with the calling thread for the cores, and
+    /// every dispatch is a cheap in-pool fork; when nothing splits, waking a
+    /// worker for the update would only cost time. Either way the results
+    /// are the same.
+    pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        let use_pool = self.mode == ExecutionMode::Parallel && self.split_recently.swap(false, Ordering::Relaxed);
+        if use_pool { self.pool.install(f) } else { f() }
+    }
+
     /// Runs `kernel` over `data`: whole, on this thread, in sequential mode or
     /// when `data` has fewer than two `grain`s of items; otherwise on
     /// contiguous chunks of at least `grain` items in the worker pool.
@@ -143,6 +160,7 @@ impl Execution {
         if self.mode == ExecutionMode::Sequential || len < 2 * grain {
             return vec![kernel(data)];
         }
+        self.split_recently.store(true, Ordering::Relaxed);
         // A few chunks per thread lets work stealing even out uneven chunks.
         let chunk = grain.max(len.div_ceil(self.threads() * 4));
         let mut out = Vec::with_capacity(len.div_ceil(chunk));

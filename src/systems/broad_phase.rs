@@ -1,14 +1,19 @@
 //! Stage 3: sweep and prune (DESIGN §2.3) — every pair of overlapping boxes.
 //!
-//! Boxes are gathered from the ECS tables, sorted by their lower x bound
-//! (a stable radix sort, so ties keep table order and the result is one fixed
-//! permutation), then each box scans forward over the boxes that start
-//! before it ends on x and confirms y and z. Touching counts as overlap. The
-//! forward scan of box `i` reads only the sorted array, so scans run in
-//! parallel on contiguous ranges of `i` and their pairs are concatenated in
-//! order. The cost is O(N + pairs on x): a big box (the planet) adds one
-//! scan over the boxes inside its x-slab, not a comparison with every box
-//! on every step of the sweep.
+//! Boxes are sorted by their lower x bound (a stable radix sort, so ties keep
+//! their input order and the result is one fixed permutation). A single sweep
+//! along x degrades when many boxes share an x range (a dense cloud of a
+//! million cubes puts hundreds in every box's x range), so the sweep runs per
+//! cell of a grid over y and z: each box joins every cell its y–z extent
+//! covers (a stable counting sort keeps each cell in x order), each entry
+//! scans forward in its cell while the next box starts before it ends on x,
+//! and confirms y and z. Touching counts as overlap. A pair found in several
+//! cells is reported only by the cell holding the lower corner of the pair's
+//! y–z intersection, so every pair comes out exactly once. A big box (the
+//! planet) joins the cells it covers and scans only the boxes inside its
+//! x-slab there, so the cost stays near-linear. The scans read only sorted
+//! arrays; they run in parallel on contiguous ranges of entries and their
+//! pairs are concatenated in order.
 
 use std::time::Instant;
 
@@ -18,8 +23,10 @@ use crate::components::{BodyId, HalfExtents};
 use crate::resources::{Execution, SimulationSettings, StageTimings};
 use crate::systems::{SimulationSystems, SimulationUpdate};
 
-/// Boxes per parallel chunk of the gather and of the sweep.
-const GRAIN: usize = 4096;
+/// Boxes (or grid entries) per parallel chunk of the gather and of the
+/// sweep. Below two grains a step runs whole: on these small inputs the
+/// dispatch and the cache traffic between cores cost more than they save.
+const GRAIN: usize = 32_768;
 
 /// An axis-aligned box by its corners.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -68,6 +75,85 @@ pub struct SweepScratch {
     keys: Vec<(u32, u32)>,
     keys_tmp: Vec<(u32, u32)>,
     sorted: Vec<Aabb>,
+    entries: Vec<(u32, u32)>,
+    entries_tmp: Vec<(u32, u32)>,
+}
+
+/// Boxes per grid cell the grid aims for.
+const BOXES_PER_CELL: usize = 64;
+
+/// Most cells per axis of the grid.
+const MAX_CELLS_PER_AXIS: usize = 256;
+
+/// A grid over y and z, fitted to the lower corners of the boxes.
+#[derive(Clone, Copy, Debug)]
+struct Grid {
+    lo: Vec2,
+    /// Cells per unit length on y and z (0 if all boxes share a coordinate).
+    scale: Vec2,
+    cells_per_axis: u32,
+}
+
+impl Grid {
+    fn fit(boxes: &[Aabb]) -> Self {
+        let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+        for b in boxes {
+            let corner = Vec2::new(b.min.y, b.min.z);
+            lo = lo.min(corner);
+            hi = hi.max(corner);
+        }
+        let n = ((boxes.len() / BOXES_PER_CELL) as f64)
+            .sqrt()
+            .clamp(1.0, MAX_CELLS_PER_AXIS as f64) as u32;
+        let extent = hi - lo;
+        let scale = |e: f32| if e.is_finite() && e > 0.0 { n as f32 / e } else { 0.0 };
+        Self {
+            lo,
+            scale: Vec2::new(scale(extent.x), scale(extent.y)),
+            cells_per_axis: n,
+        }
+    }
+
+    /// Cell coordinate of `v` on the axis with origin `lo` and `scale`;
+    /// monotonic in `v`, clamped to the grid.
+    #[inline]
+    fn coordinate(&self, v: f32, lo: f32, scale: f32) -> u32 {
+        // `as` saturates: below the grid (and NaN) → 0.
+        (((v - lo) * scale) as u32).min(self.cells_per_axis - 1)
+    }
+
+    #[inline]
+    fn cell(&self, y: f32, z: f32) -> u32 {
+        self.coordinate(y, self.lo.x, self.scale.x) * self.cells_per_axis + self.coordinate(z, self.lo.y, self.scale.y)
+    }
+
+    fn cell_count(&self) -> usize {
+        (self.cells_per_axis * self.cells_per_axis) as usize
+    }
+
+    /// Calls `f` with every cell the box's y–z extent covers.
+    #[inline]
+    fn for_each_cell(&self, b: &Aabb, mut f: impl FnMut(u32)) {
+        let (y0, y1) = (
+            self.coordinate(b.min.y, self.lo.x, self.scale.x),
+            self.coordinate(b.max.y, self.lo.x, self.scale.x),
+        );
+        let (z0, z1) = (
+            self.coordinate(b.min.z, self.lo.y, self.scale.y),
+            self.coordinate(b.max.z, self.lo.y, self.scale.y),
+        );
+        for y in y0..=y1 {
+            for z in z0..=z1 {
+                f(y * self.cells_per_axis + z);
+            }
+        }
+    }
+
+    /// The one cell that reports the overlapping pair `a`, `b`.
+    #[inline]
+    fn owner(&self, a: &Aabb, b: &Aabb) -> u32 {
+        self.cell(a.min.y.max(b.min.y), a.min.z.max(b.min.z))
+    }
 }
 
 /// Finds [`OverlappingPairs`] in [`SimulationSystems::BroadPhase`].
@@ -101,43 +187,54 @@ fn order_key(x: f32) -> u32 {
 /// Stable LSD radix sort of `(key, payload)` by key, 11 bits per pass.
 pub fn radix_sort(items: &mut Vec<(u32, u32)>, tmp: &mut Vec<(u32, u32)>) {
     const BITS: u32 = 11;
-    const BUCKETS: usize = 1 << BITS;
-    tmp.clear();
-    tmp.resize(items.len(), (0, 0));
     for pass in 0..3 {
         let shift = pass * BITS;
-        let digit = |k: u32| ((k >> shift) as usize) & (BUCKETS - 1);
-        let mut offsets = [0usize; BUCKETS];
-        for &(k, _) in items.iter() {
-            offsets[digit(k)] += 1;
-        }
-        let mut sum = 0;
-        for o in offsets.iter_mut() {
-            let count = *o;
-            *o = sum;
-            sum += count;
-        }
-        for &item in items.iter() {
-            let d = digit(item.0);
-            tmp[offsets[d]] = item;
-            offsets[d] += 1;
-        }
-        std::mem::swap(items, tmp);
+        counting_sort(items, tmp, 1 << BITS, |k| ((k >> shift) as usize) & ((1 << BITS) - 1));
     }
 }
 
-/// Kernel: the pairs `(i, j)`, `i < j`, of `sorted` (ordered by `min.x`)
-/// that overlap, for scans starting in `range`, in scan order.
-pub fn sweep(sorted: &[Aabb], range: std::ops::Range<usize>) -> Vec<(u32, u32)> {
+/// Stable counting sort of `items` by `bucket(key)` < `buckets`.
+fn counting_sort(
+    items: &mut Vec<(u32, u32)>,
+    tmp: &mut Vec<(u32, u32)>,
+    buckets: usize,
+    bucket: impl Fn(u32) -> usize,
+) {
+    let mut offsets = vec![0usize; buckets];
+    for &(k, _) in items.iter() {
+        offsets[bucket(k)] += 1;
+    }
+    let mut sum = 0;
+    for o in offsets.iter_mut() {
+        let count = *o;
+        *o = sum;
+        sum += count;
+    }
+    tmp.clear();
+    tmp.resize(items.len(), (0, 0));
+    for &item in items.iter() {
+        let d = bucket(item.0);
+        tmp[offsets[d]] = item;
+        offsets[d] += 1;
+    }
+    std::mem::swap(items, tmp);
+}
+
+/// Kernel: the overlapping pairs `(i, j)` of boxes in `sorted` (ordered by
+/// `min.x`), for the scans of the `entries` (cell, box) in `range`. Entries
+/// are grouped by cell, in x order within a cell.
+fn sweep(sorted: &[Aabb], entries: &[(u32, u32)], grid: &Grid, range: std::ops::Range<usize>) -> Vec<(u32, u32)> {
     let mut pairs = Vec::new();
-    for i in range {
-        let a = &sorted[i];
-        for (offset, b) in sorted[i + 1..].iter().enumerate() {
-            if b.min.x > a.max.x {
+    for e in range {
+        let (cell, i) = entries[e];
+        let a = &sorted[i as usize];
+        for &(other_cell, j) in &entries[e + 1..] {
+            let b = &sorted[j as usize];
+            if other_cell != cell || b.min.x > a.max.x {
                 break;
             }
-            if a.overlaps_yz(b) {
-                pairs.push((i as u32, (i + 1 + offset) as u32));
+            if a.overlaps_yz(b) && grid.owner(a, b) == cell {
+                pairs.push((i, j));
             }
         }
     }
@@ -148,14 +245,26 @@ pub fn sweep(sorted: &[Aabb], range: std::ops::Range<usize>) -> Vec<(u32, u32)> 
 /// indices into `boxes` exactly once, as `(i, j)` in sweep order. The same
 /// pairs in the same order in both execution modes.
 pub fn sweep_and_prune(boxes: &[Aabb], execution: &Execution, scratch: &mut SweepScratch) -> Vec<(u32, u32)> {
-    let SweepScratch { keys, keys_tmp, sorted } = scratch;
+    let SweepScratch {
+        keys,
+        keys_tmp,
+        sorted,
+        entries,
+        entries_tmp,
+    } = scratch;
     keys.clear();
     keys.extend(boxes.iter().enumerate().map(|(i, b)| (order_key(b.min.x), i as u32)));
     radix_sort(keys, keys_tmp);
     sorted.clear();
     sorted.extend(keys.iter().map(|&(_, i)| boxes[i as usize]));
-    let sorted = &*sorted;
-    let chunks = execution.map_chunks(0..sorted.len(), GRAIN, |range| sweep(sorted, range));
+    let grid = Grid::fit(sorted);
+    entries.clear();
+    for (i, b) in sorted.iter().enumerate() {
+        grid.for_each_cell(b, |cell| entries.push((cell, i as u32)));
+    }
+    counting_sort(entries, entries_tmp, grid.cell_count(), |cell| cell as usize);
+    let (sorted, entries) = (&*sorted, &*entries);
+    let chunks = execution.map_chunks(0..entries.len(), GRAIN, |range| sweep(sorted, entries, &grid, range));
     let order = &*keys;
     chunks
         .into_iter()

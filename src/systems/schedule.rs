@@ -6,7 +6,7 @@ use std::time::Instant;
 use bevy::ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
 use bevy::prelude::*;
 
-use crate::resources::{NextBodyId, SimulationSettings, StageTimings};
+use crate::resources::{Execution, NextBodyId, SimulationSettings, StageTimings};
 
 /// One fixed simulation update. Run it with [`run_updates`] (headless) or
 /// from a frame-rate independent clock (the app).
@@ -78,10 +78,15 @@ impl Plugin for SchedulePlugin {
 }
 
 /// Runs `updates` simulation updates on `world`, timing each as a whole.
+/// In parallel mode the updates run inside the worker pool
+/// ([`Execution::install`]).
 pub fn run_updates(world: &mut World, updates: u64) {
-    for _ in 0..updates {
-        let start = Instant::now();
-        world.run_schedule(SimulationUpdate);
-        world.resource_mut::<StageTimings>().update.record(start.elapsed());
-    }
+    let execution = world.resource::<Execution>().clone();
+    execution.install(|| {
+        for _ in 0..updates {
+            let start = Instant::now();
+            world.run_schedule(SimulationUpdate);
+            world.resource_mut::<StageTimings>().update.record(start.elapsed());
+        }
+    });
 }

@@ -1,0 +1,138 @@
+//! Each stage's kernel on its own, without an App, sequential vs parallel
+//! (all hardware threads): `cargo bench --bench kernels`.
+
+use bevy::math::DVec3;
+use bevy::prelude::*;
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use kessler::components::{Acceleration, BodyId, BodyState, GravityRole};
+use kessler::resources::{Execution, ExecutionMode, available_threads};
+use kessler::rng::Rng;
+use kessler::systems::{
+    Aabb, ContactBody, GravitySource, SweepScratch, fragments, gravity_kernel, respond, sweep_and_prune,
+};
+
+const COUNTS: [usize; 3] = [1_000, 10_000, 100_000];
+const MODES: [ExecutionMode; 2] = [ExecutionMode::Sequential, ExecutionMode::Parallel];
+
+fn execution(mode: ExecutionMode) -> Execution {
+    Execution::new(mode, available_threads()).unwrap()
+}
+
+/// Centres uniform in [1, 5000]³, as in the thesis scene.
+fn centres(count: usize) -> Vec<Vec3> {
+    let mut rng = Rng::new(1);
+    (0..count)
+        .map(|_| {
+            Vec3::new(
+                rng.range(1.0, 5000.0) as f32,
+                rng.range(1.0, 5000.0) as f32,
+                rng.range(1.0, 5000.0) as f32,
+            )
+        })
+        .collect()
+}
+
+fn gravity(c: &mut Criterion) {
+    let mut group = c.benchmark_group("kernel_gravity");
+    let sources = [GravitySource {
+        id: BodyId(0),
+        position: DVec3::splat(2500.0),
+        gm: 6.674 * 4000.0,
+    }];
+    for count in COUNTS {
+        let ids: Vec<BodyId> = (1..=count as u64).map(BodyId).collect();
+        let transforms: Vec<Transform> = centres(count).into_iter().map(Transform::from_translation).collect();
+        let roles = vec![GravityRole::Adopter; count];
+        let mut acc = vec![Acceleration::default(); count];
+        for mode in MODES {
+            let exec = execution(mode);
+            group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
+                b.iter(|| {
+                    let columns = (
+                        ids.as_slice(),
+                        transforms.as_slice(),
+                        roles.as_slice(),
+                        acc.as_mut_slice(),
+                    );
+                    exec.for_chunks(columns, 32_768, |cols| gravity_kernel(cols, &sources, 0.0));
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+fn sweep(c: &mut Criterion) {
+    let mut group = c.benchmark_group("kernel_sweep_and_prune");
+    for count in COUNTS {
+        let mut boxes: Vec<Aabb> = centres(count).into_iter().map(|p| Aabb::new(p, Vec3::ONE)).collect();
+        boxes.push(Aabb::new(Vec3::splat(2500.0), Vec3::splat(430.0)));
+        for mode in MODES {
+            let exec = execution(mode);
+            let mut scratch = SweepScratch::default();
+            group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
+                b.iter(|| sweep_and_prune(&boxes, &exec, &mut scratch))
+            });
+        }
+    }
+    group.finish();
+}
+
+fn response(c: &mut Criterion) {
+    let mut group = c.benchmark_group("kernel_response_per_1000_pairs");
+    let mut rng = Rng::new(3);
+    let mut r = |lo: f64, hi: f64| rng.range(lo, hi) as f32;
+    let contacts: Vec<(ContactBody, ContactBody)> = (0..1000)
+        .map(|_| {
+            let v = Vec3::new(r(-1.0, 1.0), r(-1.0, 1.0), r(-1.0, 1.0));
+            let a = ContactBody {
+                position: Vec3::ZERO,
+                previous: -v,
+                velocity: v,
+                mass: 1.0,
+                half_extents: Vec3::ONE,
+                interacts: true,
+            };
+            let p = Vec3::new(r(1.0, 1.9), r(-1.0, 1.0), r(-1.0, 1.0));
+            let b = ContactBody {
+                position: p,
+                previous: p + v,
+                velocity: -v,
+                ..a
+            };
+            (a, b)
+        })
+        .collect();
+    group.bench_function("respond", |b| {
+        b.iter(|| {
+            contacts
+                .iter()
+                .map(|(a, b)| respond(a, b, 3.0, 1.0))
+                .collect::<Vec<_>>()
+        })
+    });
+    group.finish();
+}
+
+fn shatter(c: &mut Criterion) {
+    let body = |id, x: f32, vx| BodyState {
+        id: BodyId(id),
+        position: Vec3::new(x, 0.0, 0.0),
+        velocity: Vec3::new(vx, 0.0, 0.0),
+        mass: 1.0,
+        half_extents: Vec3::ONE,
+        role: GravityRole::Adopter,
+        interacts: true,
+    };
+    let (a, b) = (body(0, 0.0, 3.0), body(1, 1.9, -3.0));
+    let mut group = c.benchmark_group("kernel_shatter");
+    for count in [5, 50] {
+        group.bench_with_input(BenchmarkId::new("fragments", count), &count, |bench, &count| {
+            bench.iter(|| fragments(&a, &b, count, 1, BodyId(2)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, gravity, sweep, response, shatter);
+criterion_main!(benches);
