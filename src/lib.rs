@@ -2,6 +2,7 @@
 //! colliding and shattering — every stage sequential or parallel, with
 //! bit-identical results. See `ARCHITECTURE.md` for a map of the folders.
 
+pub mod bench;
 pub mod cli;
 pub mod components;
 pub mod dump;

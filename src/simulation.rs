@@ -82,6 +82,10 @@ impl Simulation {
         self.app.world().resource::<StageTimings>()
     }
 
+    pub fn timings_mut(&mut self) -> Mut<'_, StageTimings> {
+        self.app.world_mut().resource_mut::<StageTimings>()
+    }
+
     pub fn settings_mut(&mut self) -> Mut<'_, SimulationSettings> {
         self.app.world_mut().resource_mut::<SimulationSettings>()
     }

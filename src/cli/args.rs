@@ -30,6 +30,15 @@ pub enum Command {
         #[command(flatten)]
         execution: ExecutionArgs,
     },
+    /// Measure the runs of a benchmark config; write CSV results, an overhead
+    /// report and an SVG plot beside them (never over existing files).
+    Bench {
+        /// Benchmark config (RON), e.g. benches/thesis.ron.
+        config: PathBuf,
+        /// Results CSV; `<stem>-overhead.csv` and `<stem>.svg` go beside it.
+        #[arg(long, value_name = "FILE", default_value = "results.csv")]
+        out: PathBuf,
+    },
     /// Check a scenario file: exit code 0, or a clear error and exit code 2.
     Validate {
         /// Scenario file (RON).

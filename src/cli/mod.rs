@@ -1,6 +1,7 @@
 //! The `kessler` command line: parsing, dispatch and error reporting.
 
 mod args;
+mod bench;
 mod headless;
 mod pairs;
 mod validate;
@@ -74,6 +75,7 @@ fn dispatch(command: Option<Command>) -> Result<(), Failure> {
     match command.unwrap_or(Command::Run { scenario: None }) {
         Command::Run { scenario } => run(scenario),
         Command::Headless(args) => headless::headless(&args),
+        Command::Bench { config, out } => bench::bench(&config, &out),
         Command::Pairs { scenario, execution } => pairs::pairs(&scenario, &execution),
         Command::Validate { scenario } => validate::validate(&scenario),
     }

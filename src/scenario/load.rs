@@ -138,14 +138,7 @@ impl Scenario {
 
     /// Number of bodies [`bodies`](Self::bodies) will create.
     pub fn body_count(&self) -> u64 {
-        let generated: u64 = self
-            .generators
-            .iter()
-            .map(|g| match g {
-                Generator::Cloud(c) => c.count,
-                Generator::Shell(s) => s.count,
-            })
-            .sum();
+        let generated: u64 = self.generators.iter().map(Generator::count).sum();
         self.bodies.len() as u64 + generated
     }
 

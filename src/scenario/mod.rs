@@ -4,6 +4,7 @@ pub mod checked;
 mod format;
 pub mod generators;
 mod load;
+mod scale;
 
 pub use format::*;
 pub use load::*;
@@ -13,3 +14,9 @@ pub const DEFAULT_SCENARIO: &str = include_str!("../../scenarios/debris_orbit.ro
 
 /// Name of [`DEFAULT_SCENARIO`] in messages.
 pub const DEFAULT_SCENARIO_NAME: &str = "scenarios/debris_orbit.ron (built in)";
+
+/// The thesis scene, the default of benchmark configs.
+pub const THESIS_SCENARIO: &str = include_str!("../../scenarios/thesis_cloud.ron");
+
+/// Name of [`THESIS_SCENARIO`] in messages.
+pub const THESIS_SCENARIO_NAME: &str = "scenarios/thesis_cloud.ron (built in)";

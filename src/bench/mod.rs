@@ -1,0 +1,12 @@
+//! Benchmark mode (DESIGN §7): runs from a config file, measured headless,
+//! written as CSV with a plot.
+
+mod config;
+mod plot;
+mod report;
+mod run;
+
+pub use config::*;
+pub use plot::*;
+pub use report::*;
+pub use run::*;

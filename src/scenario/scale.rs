@@ -1,0 +1,75 @@
+//! Resizing a scenario to a body count (for benchmarks).
+
+use super::format::{Generator, Scenario};
+
+impl Scenario {
+    /// This scenario with `count` generated bodies in all, shared among its
+    /// generators in proportion to their counts (the rest to the last one).
+    /// Explicit bodies stay. `None` if it has no generator to scale.
+    pub fn with_generated(&self, count: u64) -> Option<Scenario> {
+        let counts: Vec<u64> = self.generators.iter().map(Generator::count).collect();
+        let total: u64 = counts.iter().sum();
+        if counts.is_empty() {
+            return None;
+        }
+        let mut scaled = self.clone();
+        let mut given = 0;
+        let last = counts.len() - 1;
+        for (i, generator) in scaled.generators.iter_mut().enumerate() {
+            let share = if i == last {
+                count - given
+            } else if total == 0 {
+                0
+            } else {
+                (u128::from(count) * u128::from(counts[i]) / u128::from(total)) as u64
+            };
+            given += share;
+            *generator.count_mut() = share;
+        }
+        Some(scaled)
+    }
+}
+
+impl Generator {
+    /// Bodies this generator makes.
+    pub fn count(&self) -> u64 {
+        match self {
+            Generator::Cloud(c) => c.count,
+            Generator::Shell(s) => s.count,
+        }
+    }
+
+    fn count_mut(&mut self) -> &mut u64 {
+        match self {
+            Generator::Cloud(c) => &mut c.count,
+            Generator::Shell(s) => &mut s.count,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shares_the_count_in_proportion() {
+        let s = Scenario::parse(
+            "Scenario(bodies: [Body(position: (0,0,0), mass: 10, role: Source)], generators: [
+                Cloud(count: 100, center: (0,0,0), half_size: (100,100,100)),
+                Shell(count: 300, around: 0, inner_radius: 30, outer_radius: 40),
+            ])",
+            "t",
+        )
+        .unwrap();
+        let scaled = s.with_generated(1001).unwrap();
+        let counts: Vec<u64> = scaled.generators.iter().map(Generator::count).collect();
+        assert_eq!(counts, [250, 751]);
+        assert_eq!(scaled.body_count(), 1002);
+        assert_eq!(s.with_generated(0).unwrap().body_count(), 1);
+        let empty = Scenario {
+            generators: vec![],
+            ..s
+        };
+        assert_eq!(empty.with_generated(5), None);
+    }
+}

@@ -1,0 +1,135 @@
+//! `kessler bench` through the real binary.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+fn kessler() -> Command {
+    Command::cargo_bin("kessler").unwrap()
+}
+
+fn corpus() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/bad_benches"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    files
+}
+
+fn expectation(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .next()
+        .and_then(|l| l.strip_prefix("// expect: "))
+        .expect("expect line")
+        .to_owned()
+}
+
+#[test]
+fn bad_configs_are_clear_errors_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results.csv");
+    for file in corpus() {
+        let result = kessler()
+            .arg("bench")
+            .arg(&file)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(2), "{}: {stderr}", file.display());
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        let name = file.file_name().unwrap().to_string_lossy().into_owned();
+        for needle in [name, expectation(&file)] {
+            assert!(stderr.contains(&needle), "{stderr:?} lacks {needle:?}");
+        }
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            0,
+            "{} wrote files",
+            file.display()
+        );
+    }
+}
+
+fn tiny_config(dir: &Path) -> PathBuf {
+    let path = dir.join("tiny.ron");
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis_cloud.ron");
+    std::fs::write(
+        &path,
+        format!(
+            r#"Bench(scenario: "{scenario}", runs: [
+                Run(bodies: 50, updates: 5, mode: Sequential),
+                Run(bodies: 50, updates: 5, mode: Parallel, threads: 1),
+                Run(bodies: 500, updates: 3, mode: Parallel, threads: 2, stages: (collisions: false)),
+            ])"#
+        ),
+    )
+    .unwrap();
+    path
+}
+
+#[test]
+fn writes_results_overhead_and_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("tiny-results.csv");
+    let result = kessler()
+        .arg("bench")
+        .arg(tiny_config(dir.path()))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        csv.lines().next().unwrap(),
+        "run,bodies_start,bodies_end,updates,mode,threads,update_ns,broad_phase_ns,response_ns,gravity_ns,integrate_ns"
+    );
+    assert_eq!(rows.len(), 4, "{csv}");
+    // 50 cubes and the planet; the third run had collisions off.
+    assert_eq!(&rows[1][..6], ["1", "51", "51", "5", "sequential", "1"]);
+    assert_eq!(&rows[2][4..6], ["parallel", "1"]);
+    assert_eq!(&rows[3][..6], ["3", "501", "501", "3", "parallel", "2"]);
+    assert_eq!(rows[3][7], "0", "broad phase was off");
+    for row in &rows[1..] {
+        let update: f64 = row[6].parse().unwrap();
+        let stages: f64 = row[7..].iter().map(|v| v.parse::<f64>().unwrap()).sum();
+        assert!(
+            update > 0.0 && stages <= update,
+            "stages {stages} exceed the update {update}: {row:?}"
+        );
+    }
+
+    let overhead = std::fs::read_to_string(dir.path().join("tiny-results-overhead.csv")).unwrap();
+    assert!(overhead.starts_with("bodies,stage,sequential_ns,parallel_1_thread_ns,overhead_ns,overhead_percent\n"));
+    assert_eq!(overhead.lines().count(), 6, "{overhead}");
+    let svg = std::fs::read_to_string(dir.path().join("tiny-results.svg")).unwrap();
+    assert!(svg.contains("<polyline"), "{svg}");
+}
+
+#[test]
+fn never_overwrites_existing_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results.csv");
+    std::fs::write(dir.path().join("results.svg"), "my old plot").unwrap();
+    let result = kessler()
+        .arg("bench")
+        .arg(tiny_config(dir.path()))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&result.stderr).contains("results.svg exists"));
+    assert!(!out.exists());
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("results.svg")).unwrap(),
+        "my old plot"
+    );
+}
