@@ -111,6 +111,8 @@ fn writes_results_overhead_and_plot() {
     assert_eq!(overhead.lines().count(), 6, "{overhead}");
     let svg = std::fs::read_to_string(dir.path().join("tiny-results.svg")).unwrap();
     assert!(svg.contains("<polyline"), "{svg}");
+    let png = std::fs::read(dir.path().join("tiny-results.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
 }
 
 #[test]

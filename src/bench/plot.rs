@@ -205,6 +205,34 @@ pub fn svg(results: &[RunResult], title: &str) -> String {
     s
 }
 
+/// Renders an SVG document (the plot) to PNG. Text is drawn with the
+/// system's fonts (DejaVu Sans where present); without any font the lines
+/// are still drawn.
+pub fn png(svg: &str) -> Result<Vec<u8>, String> {
+    use resvg::{tiny_skia, usvg};
+    let mut options = usvg::Options::default();
+    let fonts = options.fontdb_mut();
+    fonts.load_system_fonts();
+    let family = fonts
+        .faces()
+        .flat_map(|face| face.families.iter().map(|(name, _)| name.clone()))
+        .find(|name| name == "DejaVu Sans")
+        .or_else(|| {
+            fonts
+                .faces()
+                .next()
+                .and_then(|face| face.families.first().map(|(name, _)| name.clone()))
+        });
+    if let Some(family) = family {
+        fonts.set_sans_serif_family(family);
+    }
+    let tree = usvg::Tree::from_str(svg, &options).map_err(|e| format!("plot: {e}"))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap = tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("plot: empty picture")?;
+    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    pixmap.encode_png().map_err(|e| format!("plot: {e}"))
+}
+
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
@@ -263,5 +291,29 @@ mod tests {
         for tick in [">1000<", ">100000<", ">0.1 ms<", ">10 ms<"] {
             assert!(svg.contains(tick), "missing tick {tick}");
         }
+    }
+
+    #[test]
+    fn png_shows_the_lines_on_white() {
+        let results = [
+            result(1000, ExecutionMode::Sequential, 1, 1e5),
+            result(100_000, ExecutionMode::Sequential, 1, 1e7),
+        ];
+        let png = png(&svg(&results, "t")).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+        let pixmap = resvg::tiny_skia::Pixmap::decode_png(&png).unwrap();
+        assert_eq!((pixmap.width(), pixmap.height()), (WIDTH as u32, HEIGHT as u32));
+        let pixels = pixmap.pixels();
+        let white = pixels
+            .iter()
+            .filter(|p| (p.red(), p.green(), p.blue()) == (255, 255, 255))
+            .count();
+        // The first series' colour (#d62728) is drawn somewhere.
+        let red = pixels
+            .iter()
+            .filter(|p| p.red() > 180 && p.green() < 80 && p.blue() < 80)
+            .count();
+        assert!(white > pixels.len() / 2, "background is not white");
+        assert!(red > 200, "only {red} pixels of the line colour");
     }
 }

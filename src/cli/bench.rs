@@ -16,6 +16,7 @@ struct Outputs {
     results: PathBuf,
     overhead: PathBuf,
     plot: PathBuf,
+    plot_png: PathBuf,
 }
 
 impl Outputs {
@@ -29,12 +30,13 @@ impl Outputs {
             results: results.to_owned(),
             overhead: sibling("-overhead.csv"),
             plot: sibling(".svg"),
+            plot_png: sibling(".png"),
         }
     }
 
     /// Refuses to start if any output exists or its folder does not.
     fn check(&self) -> Result<(), Failure> {
-        for path in [&self.results, &self.overhead, &self.plot] {
+        for path in [&self.results, &self.overhead, &self.plot, &self.plot_png] {
             if path.exists() {
                 return Err(Failure::input(format!(
                     "--out: {} exists already; remove it or choose another --out (results are never overwritten)",
@@ -133,10 +135,12 @@ pub fn bench(config_path: &Path, out: &Path) -> Result<(), Failure> {
         .map_err(io(&outputs.overhead))?;
     }
     let title = format!("Kessler: {}, time per update", scenario.name);
-    write_atomically(&outputs.plot, |w| w.write_all(bench::svg(&results, &title).as_bytes()))
-        .map_err(io(&outputs.plot))?;
+    let svg = bench::svg(&results, &title);
+    write_atomically(&outputs.plot, |w| w.write_all(svg.as_bytes())).map_err(io(&outputs.plot))?;
+    let png = bench::png(&svg).map_err(|message| Failure { message, code: 1 })?;
+    write_atomically(&outputs.plot_png, |w| w.write_all(&png)).map_err(io(&outputs.plot_png))?;
     println!(
-        "{} runs written to {}{}, plot {}",
+        "{} runs written to {}{}, plot {} and {}",
         results.len(),
         outputs.results.display(),
         if overhead.is_empty() {
@@ -144,7 +148,8 @@ pub fn bench(config_path: &Path, out: &Path) -> Result<(), Failure> {
         } else {
             format!(", overhead of going parallel {}", outputs.overhead.display())
         },
-        outputs.plot.display()
+        outputs.plot.display(),
+        outputs.plot_png.display()
     );
     Ok(())
 }
