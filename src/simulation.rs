@@ -53,15 +53,7 @@ impl Simulation {
         )>();
         let mut bodies: Vec<BodyState> = query
             .iter(world)
-            .map(|(id, t, v, m, h, role, i)| BodyState {
-                id: *id,
-                position: t.translation,
-                velocity: v.0,
-                mass: m.0,
-                half_extents: h.0,
-                role: *role,
-                interacts: i.0,
-            })
+            .map(|(id, t, v, m, h, role, i)| BodyState::from_components(id, t, v, m, h, role, i))
             .collect();
         bodies.sort_unstable_by_key(|b| b.id);
         bodies

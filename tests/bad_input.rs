@@ -1,46 +1,13 @@
 //! Bad input through the real binary: one clear line on stderr, exit code 2,
 //! no panic, nothing overwritten.
 
-use std::path::{Path, PathBuf};
+mod common;
 
-use assert_cmd::Command;
-
-fn kessler() -> Command {
-    Command::cargo_bin("kessler").unwrap()
-}
-
-/// The substring each corpus file's error must contain, from its first line
-/// (`// expect: ...`).
-fn expectation(path: &Path) -> String {
-    let text = std::fs::read_to_string(path).unwrap();
-    let first = text.lines().next().unwrap_or_default();
-    first
-        .strip_prefix("// expect: ")
-        .unwrap_or_else(|| panic!("{} lacks an expect line", path.display()))
-        .to_owned()
-}
-
-fn corpus() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/bad_scenarios"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    files.sort();
-    files
-}
-
-fn assert_one_clear_line(stderr: &[u8], must_contain: &[&str]) {
-    let stderr = String::from_utf8_lossy(stderr);
-    assert!(!stderr.contains("panicked"), "panic: {stderr}");
-    assert_eq!(stderr.trim_end().lines().count(), 1, "not one line: {stderr}");
-    for needle in must_contain {
-        assert!(stderr.contains(needle), "{stderr:?} does not mention {needle:?}");
-    }
-}
+use common::{assert_one_clear_line, corpus, expectation, kessler};
 
 #[test]
 fn every_malformed_scenario_is_a_clear_error() {
-    let files = corpus();
+    let files = corpus("bad_scenarios");
     assert!(files.len() >= 15, "corpus has only {} files", files.len());
     let dir = tempfile::tempdir().unwrap();
     let dump = dir.path().join("state.csv");

@@ -106,6 +106,27 @@ pub struct BodyState {
 }
 
 impl BodyState {
+    /// A body's state from its components.
+    pub fn from_components(
+        id: &BodyId,
+        transform: &Transform,
+        velocity: &Velocity,
+        mass: &Mass,
+        half_extents: &HalfExtents,
+        role: &GravityRole,
+        interacts: &Interacts,
+    ) -> Self {
+        Self {
+            id: *id,
+            position: transform.translation,
+            velocity: velocity.0,
+            mass: mass.0,
+            half_extents: half_extents.0,
+            role: *role,
+            interacts: interacts.0,
+        }
+    }
+
     /// The bundle that spawns this body, at rest in its own previous position.
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {

@@ -223,16 +223,7 @@ fn body_state(query: &ContactQuery, entity: Entity) -> Option<(ContactBody, Body
         half_extents: h.0,
         interacts: i.0,
     };
-    let state = BodyState {
-        id: *id,
-        position: t.translation,
-        velocity: v.0,
-        mass: m.0,
-        half_extents: h.0,
-        role: *role,
-        interacts: i.0,
-    };
-    Some((contact, state))
+    Some((contact, BodyState::from_components(id, t, v, m, h, role, i)))
 }
 
 #[expect(
