@@ -35,8 +35,9 @@ pub fn write_csv(bodies: &[BodyState], mut out: impl Write) -> io::Result<()> {
     out.flush()
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same folder and a
-/// rename, so that `path` is either the old file or the whole new one.
+/// Writes to `path` through `write`, into a temporary file in the same folder
+/// that is then renamed, so that `path` is either the old file or the whole
+/// new one.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
     let dir = path
         .parent()

@@ -68,13 +68,11 @@ impl Scenario {
 
     /// Checks that span several fields (the parser has checked each value).
     fn check(&self, origin: &str) -> Result<(), ScenarioError> {
-        let mut total = self.bodies.len() as u64;
         for (i, generator) in self.generators.iter().enumerate() {
             let field = |name: &str| format!("generators[{i}].{name}");
             match generator {
-                Generator::Cloud(c) => total += c.count,
+                Generator::Cloud(_) => {}
                 Generator::Shell(s) => {
-                    total += s.count;
                     if s.inner_radius > s.outer_radius {
                         return Err(ScenarioError::new(
                             origin,
@@ -114,6 +112,7 @@ impl Scenario {
                 }
             }
         }
+        let total = self.body_count();
         if total > MAX_BODIES {
             return Err(ScenarioError::new(
                 origin,

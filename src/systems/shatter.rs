@@ -127,9 +127,8 @@ fn shatter(
         next_id.0 += u64::from(count);
         commands.spawn_batch(
             fragments(a, b, count, settings.seed, first)
-                .iter()
-                .map(BodyState::bundle)
-                .collect::<Vec<_>>(),
+                .into_iter()
+                .map(|f| f.bundle()),
         );
     }
     timings.record(SimulationSystems::Shatter, start.elapsed());
