@@ -42,7 +42,7 @@ pub struct Motion {
 /// What happens to a pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Outcome {
-    /// Both non-interacting: nothing.
+    /// Both non-interacting, or touching without approaching: nothing.
     Ignore,
     /// Both interacting, they met this update (a collision axis is known),
     /// and the impact speed reached the threshold.
@@ -56,9 +56,19 @@ pub enum Outcome {
 
 /// Axes on which the boxes were apart at their previous positions
 /// (touching counts as apart).
-pub fn collision_axes(a: &ContactBody, b: &ContactBody) -> [bool; 3] {
+pub fn apart_axes(a: &ContactBody, b: &ContactBody) -> [bool; 3] {
     let gap = (a.previous - b.previous).abs() - (a.half_extents + b.half_extents);
     [gap.x >= 0.0, gap.y >= 0.0, gap.z >= 0.0]
+}
+
+/// The collision axes: apart at the previous positions and closing, i.e.
+/// the relative velocity points from where `a` was towards where `b` was.
+/// (Faces that touched and slide along each other do not collide.)
+pub fn collision_axes(a: &ContactBody, b: &ContactBody) -> [bool; 3] {
+    let apart = apart_axes(a, b);
+    let offset = a.previous - b.previous;
+    let rel = a.velocity - b.velocity;
+    [0, 1, 2].map(|k| apart[k] && rel[k] * offset[k] < 0.0)
 }
 
 /// 1-D elastic collision: the new velocities of masses `m1`, `m2`.
@@ -76,13 +86,17 @@ pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Out
     if !a.interacts && !b.interacts {
         return Outcome::Ignore;
     }
-    let axes = collision_axes(a, b);
     let (pa, pb) = (a.position.as_dvec3(), b.position.as_dvec3());
     let (va, vb) = (a.velocity.as_dvec3(), b.velocity.as_dvec3());
     let reach = (a.half_extents + b.half_extents).as_dvec3();
     // Overlapping already a step ago (e.g. spawned so): no impact happened.
-    if !axes.contains(&true) {
+    if !apart_axes(a, b).contains(&true) {
         return separate(a, b, reach - (pa - pb).abs());
+    }
+    let axes = collision_axes(a, b);
+    // Apart before, touching now, but not approaching: a graze.
+    if !axes.contains(&true) {
+        return Outcome::Ignore;
     }
     if a.interacts && b.interacts && (a.velocity - b.velocity).length() >= threshold {
         return Outcome::Shatter;
@@ -113,7 +127,9 @@ pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Out
             }
         })
         .fold(f64::INFINITY, f64::min)
-        .clamp(0.0, f64::from(dt));
+        // (Not `clamp`: a time step set to NaN at run time must not panic.)
+        .min(f64::from(dt))
+        .max(0.0);
     // Rewind along the arrival velocities (relative to a wall, which stays).
     let (back_a, back_b) = match (a.interacts, b.interacts) {
         (true, true) => (va, vb),
@@ -189,12 +205,7 @@ impl Plugin for ResponsePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<PendingShatters>()
             .init_resource::<CollisionStats>()
-            .add_systems(
-                SimulationUpdate,
-                respond_to_pairs
-                    .in_set(SimulationSystems::Response)
-                    .run_if(|s: Res<SimulationSettings>| s.collisions && s.collision_response),
-            );
+            .add_systems(SimulationUpdate, respond_to_pairs.in_set(SimulationSystems::Response));
     }
 }
 
@@ -241,6 +252,14 @@ fn respond_to_pairs(
     mut bodies: ContactQuery,
 ) {
     let start = Instant::now();
+    pending.0.clear();
+    if !(settings.collisions && settings.collision_response) {
+        *stats = CollisionStats {
+            shatters_total: stats.shatters_total,
+            ..CollisionStats::default()
+        };
+        return;
+    }
     // Greedy matching in pair order; non-interacting bodies never get busy.
     busy.clear();
     let mut matched = Vec::new();
@@ -262,7 +281,13 @@ fn respond_to_pairs(
         }
         matched.push((pair.entity_a, pair.entity_b, ca, cb, sa, sb));
     }
-    let (threshold, dt) = (settings.shatter_threshold, settings.time_step);
+    // Fewer than two fragments cannot keep volume: then nothing shatters.
+    let threshold = if settings.shatter_fragments >= 2 {
+        settings.shatter_threshold
+    } else {
+        f32::INFINITY
+    };
+    let dt = settings.time_step;
     let outcomes: Vec<Outcome> = execution
         .map_chunks(matched.as_slice(), GRAIN, |chunk: &[_]| {
             chunk
@@ -273,7 +298,6 @@ fn respond_to_pairs(
         .into_iter()
         .flatten()
         .collect();
-    pending.0.clear();
     let mut responses = 0;
     for ((ea, eb, _, _, sa, sb), outcome) in matched.iter().zip(outcomes) {
         let (ma, mb) = match outcome {
@@ -459,6 +483,33 @@ mod tests {
             }
             other => panic!("expected a separation, got {other:?}"),
         }
+    }
+
+    #[test]
+    fn grazing_faces_neither_bounce_nor_shatter() {
+        // Faces touching on x a step ago and now; overlapping on y and z and
+        // sliding past each other on z at 1.5 — above the threshold of 1.
+        let a = ContactBody {
+            position: Vec3::new(0.0, 0.0, 0.25),
+            previous: Vec3::new(0.0, 0.0, -0.5),
+            velocity: Vec3::new(0.0, 0.0, 0.75),
+            ..cube(0.0, 0.0, 1.0)
+        };
+        let b = ContactBody {
+            position: Vec3::new(2.0, 0.0, -0.25),
+            previous: Vec3::new(2.0, 0.0, 0.5),
+            velocity: Vec3::new(0.0, 0.0, -0.75),
+            ..cube(2.0, 0.0, 1.0)
+        };
+        assert_eq!(apart_axes(&a, &b), [true, false, false]);
+        assert_eq!(collision_axes(&a, &b), [false; 3]);
+        assert_eq!(respond(&a, &b, 1.0, 1.0), Outcome::Ignore);
+    }
+
+    #[test]
+    fn a_nan_time_step_does_not_panic() {
+        let (a, b) = (cube(-0.9, 1.0, 1.0), cube(0.9, -1.0, 1.0));
+        assert!(matches!(respond(&a, &b, 10.0, f32::NAN), Outcome::Bounce(..)));
     }
 
     #[test]

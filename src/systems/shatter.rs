@@ -51,9 +51,10 @@ fn sphere_points(count: u32) -> Vec<DVec3> {
 }
 
 /// Kernel: the fragments of bodies `a` and `b`, with ids from `first_id`.
-/// `count` ≥ 2 (the scenario check guarantees it).
+/// `count` is at least 2 (scenarios reject less, and the response does not
+/// shatter with less); a smaller count is taken as 2.
 pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: BodyId) -> Vec<BodyState> {
-    assert!(count >= 2, "shatter needs at least 2 fragments");
+    let count = count.max(2);
     let (m1, m2) = (f64::from(a.mass), f64::from(b.mass));
     let total = m1 + m2;
     let centre = (a.position.as_dvec3() * m1 + b.position.as_dvec3() * m2) / total;
@@ -62,7 +63,8 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: 
     let half = ((volume(a.half_extents) + volume(b.half_extents)) / f64::from(count)).cbrt();
     let impact = (a.velocity - b.velocity).as_dvec3().length();
 
-    let mut rng = Rng::stream(seed, a.id.0.min(b.id.0) ^ (a.id.0.max(b.id.0) << 32));
+    let (low, high) = (a.id.0.min(b.id.0), a.id.0.max(b.id.0));
+    let mut rng = Rng::stream(Rng::stream(seed, low).next_u64(), high);
     let turn = DQuat::from_euler(
         EulerRot::YXZ,
         rng.range(0.0, std::f64::consts::TAU),
@@ -77,7 +79,9 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: 
             closest = closest.min((*p - *q).abs().max_element());
         }
     }
-    let radius = 2.0 * half * (1.0 + CLEARANCE) / closest;
+    // Keep the clearance after rounding to f32: a few f32 steps at the centre.
+    let rounding = 4.0 * f64::from(f32::EPSILON) * centre.abs().max_element();
+    let radius = (2.0 * half * (1.0 + CLEARANCE) + rounding) / closest;
     let spreads: Vec<DVec3> = directions
         .iter()
         .map(|d| *d * impact * SPREAD * rng.range(0.5, 1.0))
@@ -179,6 +183,23 @@ mod tests {
         for count in [2, 5, 12, 64, 300] {
             let f = fragments(&a, &b, count, 7, BodyId(2));
             let boxes: Vec<Aabb> = f.iter().map(|x| Aabb::new(x.position, x.half_extents)).collect();
+            for i in 0..boxes.len() {
+                for j in i + 1..boxes.len() {
+                    assert!(!boxes[i].overlaps(&boxes[j]), "{count} fragments: {i} and {j} touch");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn fragments_far_from_the_origin_do_not_touch_either() {
+        let a = body(0, [3.0e6, -2.0e6, 0.0], [3.0, 0.0, 0.0], 1.0, [1.0; 3]);
+        let b = body(1, [3.0e6 + 1.75, -2.0e6, 0.0], [-3.0, 0.0, 0.0], 1.0, [1.0; 3]);
+        for count in [2, 5, 12] {
+            let boxes: Vec<Aabb> = fragments(&a, &b, count, 3, BodyId(2))
+                .iter()
+                .map(|x| Aabb::new(x.position, x.half_extents))
+                .collect();
             for i in 0..boxes.len() {
                 for j in i + 1..boxes.len() {
                     assert!(!boxes[i].overlaps(&boxes[j]), "{count} fragments: {i} and {j} touch");
