@@ -258,11 +258,27 @@ pub fn sweep_and_prune(boxes: &[Aabb], execution: &Execution, scratch: &mut Swee
         entries,
         entries_tmp,
     } = scratch;
-    keys.clear();
-    keys.extend(boxes.iter().enumerate().map(|(i, b)| (order_key(b.min.x), i as u32)));
+    keys.resize(boxes.len(), (0, 0));
+    execution.for_chunks(
+        (0..boxes.len(), keys.as_mut_slice()),
+        GRAIN,
+        |(range, keys): (_, &mut [(u32, u32)])| {
+            for (i, key) in range.zip(keys) {
+                *key = (order_key(boxes[i].min.x), i as u32);
+            }
+        },
+    );
     radix_sort(keys, keys_tmp);
-    sorted.clear();
-    sorted.extend(keys.iter().map(|&(_, i)| boxes[i as usize]));
+    sorted.resize(boxes.len(), Aabb::default());
+    execution.for_chunks(
+        (keys.as_slice(), sorted.as_mut_slice()),
+        GRAIN,
+        |(keys, out): (&[(u32, u32)], &mut [Aabb])| {
+            for (&(_, i), out) in keys.iter().zip(out) {
+                *out = boxes[i as usize];
+            }
+        },
+    );
     let grid = Grid::fit(sorted);
     entries.clear();
     for (i, b) in sorted.iter().enumerate() {
