@@ -39,6 +39,20 @@ impl Simulation {
         run_updates(self.app.world_mut(), updates);
     }
 
+    /// Runs `updates` updates in about `reports` batches, telling `progress`
+    /// the number done after each (so a progress display costs nothing
+    /// measurable).
+    pub fn step_reporting(&mut self, updates: u64, reports: u64, mut progress: impl FnMut(u64)) {
+        let batch = (updates / reports.max(1)).max(1);
+        let mut done = 0;
+        while done < updates {
+            let n = batch.min(updates - done);
+            self.step(n);
+            done += n;
+            progress(done);
+        }
+    }
+
     /// Every body's state, sorted by id.
     pub fn snapshot(&mut self) -> Vec<BodyState> {
         let world = self.app.world_mut();

@@ -46,14 +46,7 @@ pub fn measure(
     sim.step(1);
     sim.timings_mut().reset();
     let bodies_start = sim.body_count();
-    let batch = (run.updates / 100).max(1);
-    let mut done = 0;
-    while done < run.updates {
-        let n = batch.min(run.updates - done);
-        sim.step(n);
-        done += n;
-        progress(done);
-    }
+    sim.step_reporting(run.updates, 100, &mut progress);
     let bodies_end = sim.body_count();
     let t = sim.timings();
     // A stage that was off ran no samples: its mean stays 0.

@@ -70,15 +70,7 @@ pub fn simulate(
             .progress_chars("=> "),
     );
     let start = Instant::now();
-    // Steps in batches so the bar costs nothing measurable.
-    let batch = (updates / 200).max(1);
-    let mut done = 0;
-    while done < updates {
-        let n = batch.min(updates - done);
-        sim.step(n);
-        done += n;
-        progress.set_position(done);
-    }
+    sim.step_reporting(updates, 200, |done| progress.set_position(done));
     progress.finish_and_clear();
     let elapsed = start.elapsed();
 
