@@ -17,10 +17,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Open the interactive window (the default command).
-    Run {
-        /// Scenario file (RON); the built-in debris field if omitted.
-        scenario: Option<PathBuf>,
-    },
+    Run(RunArgs),
     /// Simulate without a window, print a summary and optionally dump the state.
     Headless(HeadlessArgs),
     /// Print the overlapping pairs of a scenario's initial state as CSV `a,b`.
@@ -55,6 +52,41 @@ pub struct ExecutionArgs {
     /// Worker threads in parallel mode [default: all hardware threads].
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=MAX_THREADS as i64), allow_negative_numbers = true)]
     pub threads: Option<u16>,
+}
+
+/// How the window runs; everything but the scenario is optional.
+#[derive(Debug, Clone, Default, Args)]
+pub struct RunArgs {
+    /// Scenario file (RON); the saved or built-in scenario if omitted.
+    pub scenario: Option<PathBuf>,
+    /// Close after this many frames and print frame-time statistics.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames: Option<u64>,
+    /// Save a PNG of the window after the last frame (needs --frames; the
+    /// file must not exist yet).
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Settings file to load and save [default: ~/.config/kessler/settings.ron].
+    #[arg(long, value_name = "FILE")]
+    pub settings: Option<PathBuf>,
+    /// How to draw the bodies (overrides the saved setting).
+    #[arg(long, value_enum)]
+    pub render: Option<RenderArg>,
+    /// Generated bodies (overrides the saved setting).
+    #[arg(long, value_name = "N")]
+    pub bodies: Option<u64>,
+    /// Start with the simulation paused (to measure rendering alone).
+    #[arg(long)]
+    pub paused: bool,
+}
+
+/// Drawing method on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RenderArg {
+    /// All cubes in one instanced draw.
+    Instanced,
+    /// One Bevy mesh entity per body.
+    Meshes,
 }
 
 #[derive(Debug, Clone, Args)]

@@ -14,7 +14,6 @@ use std::process::ExitCode;
 use clap::Parser;
 use clap::error::ErrorKind;
 
-use crate::resources::Execution;
 use crate::scenario::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, Scenario};
 
 /// Exit code for bad input (arguments, scenario files).
@@ -72,8 +71,8 @@ fn one_line(rendered: &str) -> String {
 }
 
 fn dispatch(command: Option<Command>) -> Result<(), Failure> {
-    match command.unwrap_or(Command::Run { scenario: None }) {
-        Command::Run { scenario } => run(scenario),
+    match command.unwrap_or(Command::Run(RunArgs::default())) {
+        Command::Run(args) => run(args),
         Command::Headless(args) => headless::headless(&args),
         Command::Bench { config, out } => bench::bench(&config, &out),
         Command::Pairs { scenario, execution } => pairs::pairs(&scenario, &execution),
@@ -96,15 +95,33 @@ pub fn load_scenario(path: Option<&std::path::Path>) -> Result<(Scenario, String
     }
 }
 
-/// Updates `kessler run` simulates while the window is not built.
+/// Updates `kessler run` simulates when the window is not built.
+#[cfg(not(feature = "gui"))]
 const RUN_UPDATES: u64 = 600;
 
-fn run(scenario: Option<std::path::PathBuf>) -> Result<(), Failure> {
+#[cfg(not(feature = "gui"))]
+fn run(args: RunArgs) -> Result<(), Failure> {
+    if args.frames.is_some() || args.screenshot.is_some() || args.render.is_some() {
+        return Err(Failure::input(
+            "this kessler was built without the window (cargo feature `gui`); \
+             --frames, --screenshot and --render need it",
+        ));
+    }
     eprintln!(
-        "kessler: the interactive window is not part of this build yet; \
+        "kessler: the interactive window is not part of this build (cargo feature `gui`); \
          simulating {RUN_UPDATES} updates headless instead (see `kessler headless --help`)"
     );
-    let (scenario, origin) = load_scenario(scenario.as_deref())?;
-    let execution = Execution::all_cores(Default::default()).map_err(Failure::input)?;
+    let (mut scenario, origin) = load_scenario(args.scenario.as_deref())?;
+    if let Some(count) = args.bodies {
+        scenario = scenario
+            .with_generated(count)
+            .ok_or_else(|| Failure::input(format!("{origin}: has no generators, so --bodies cannot apply")))?;
+    }
+    let execution = crate::resources::Execution::all_cores(Default::default()).map_err(Failure::input)?;
     headless::simulate(&scenario, &origin, execution, RUN_UPDATES, None)
+}
+
+#[cfg(feature = "gui")]
+fn run(args: RunArgs) -> Result<(), Failure> {
+    crate::ui::run(args)
 }

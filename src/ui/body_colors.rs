@@ -1,0 +1,176 @@
+//! Colours of the body cubes, and the per-frame gather of every body into
+//! the instance slot.
+
+use bevy::prelude::*;
+
+use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Velocity};
+use crate::systems::OverlappingPairs;
+
+use super::instancing::{InstanceData, InstancedBodies};
+use super::sandbox::SandboxState;
+use super::settings::{RenderMethod, SandboxSettings};
+
+/// What a cube's colour shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyLook {
+    /// Speed divided by the field's mean speed.
+    pub relative_speed: f32,
+    /// Born from a shatter (not in the scenario).
+    pub fragment: bool,
+    /// In an overlapping pair in the last update.
+    pub colliding: bool,
+}
+
+/// Grey of every cube when visual effects are off.
+pub const PLAIN: [u8; 4] = [200, 200, 205, 255];
+/// Colliding cubes flash white-hot.
+pub const COLLIDING: [u8; 4] = [255, 255, 230, 255];
+
+/// sRGB colour of a cube: plain grey without effects; else white when
+/// colliding, and otherwise a ramp from cool blue (slow) through cyan to
+/// warm red (twice the mean speed and faster), pushed towards orange for
+/// fragments.
+pub fn body_color(look: BodyLook, effects: bool) -> [u8; 4] {
+    if !effects {
+        return PLAIN;
+    }
+    if look.colliding {
+        return COLLIDING;
+    }
+    let t = (look.relative_speed / 2.0).clamp(0.0, 1.0);
+    let ramp = |a: f32, b: f32| a + (b - a) * t;
+    let (r, g, b) = if look.fragment {
+        (ramp(0.95, 1.0), ramp(0.75, 0.35), ramp(0.25, 0.1))
+    } else {
+        (ramp(0.25, 0.95), ramp(0.55, 0.35), ramp(1.0, 0.3))
+    };
+    let byte = |c: f32| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [byte(r), byte(g), byte(b), 255]
+}
+
+/// Bodies drawn as spheres rather than cubes: sources that do not collide
+/// (the planet, moons).
+pub fn is_celestial(role: GravityRole, interacts: Interacts) -> bool {
+    role.is_source() && !interacts.0
+}
+
+/// Packs every cube into the instance slot (instanced method, bodies shown);
+/// an empty slot otherwise.
+#[expect(
+    clippy::type_complexity,
+    reason = "one query over the body components the colour needs"
+)]
+pub fn gather_instances(
+    bodies: Query<(
+        Entity,
+        &BodyId,
+        &Transform,
+        &HalfExtents,
+        &Velocity,
+        &GravityRole,
+        &Interacts,
+    )>,
+    instanced: Query<&InstancedBodies>,
+    pairs: Res<OverlappingPairs>,
+    settings: Res<SandboxSettings>,
+    state: Res<SandboxState>,
+    mut staging: Local<Vec<InstanceData>>,
+    mut colliding: Local<Vec<bool>>,
+    mut mean_speed: Local<f32>,
+) {
+    let Some(InstancedBodies(slot)) = instanced.iter().next() else {
+        return;
+    };
+    staging.clear();
+    if settings.render_bodies && settings.render_method == RenderMethod::Instanced {
+        colliding.clear();
+        for pair in &pairs.0 {
+            for entity in [pair.entity_a, pair.entity_b] {
+                let i = entity.index_u32() as usize;
+                if colliding.len() <= i {
+                    colliding.resize(i + 1, false);
+                }
+                colliding[i] = true;
+            }
+        }
+        let reference = mean_speed.max(1e-6);
+        let (mut speed_sum, mut counted) = (0.0f64, 0u64);
+        staging.extend(
+            bodies
+                .iter()
+                .filter(|(.., role, interacts)| !is_celestial(**role, **interacts))
+                .map(|(entity, id, transform, half, velocity, ..)| {
+                    let speed = velocity.0.length();
+                    speed_sum += f64::from(speed);
+                    counted += 1;
+                    let look = BodyLook {
+                        relative_speed: speed / reference,
+                        fragment: id.0 >= state.first_fragment_id,
+                        colliding: colliding.get(entity.index_u32() as usize).copied().unwrap_or(false),
+                    };
+                    InstanceData {
+                        center: transform.translation.to_array(),
+                        half_extents: half.0.to_array(),
+                        color: body_color(look, settings.visual_effects),
+                    }
+                }),
+        );
+        if counted > 0 {
+            *mean_speed = (speed_sum / counted as f64) as f32;
+        }
+    }
+    slot.publish(&mut staging);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn look(relative_speed: f32, fragment: bool, colliding: bool) -> BodyLook {
+        BodyLook {
+            relative_speed,
+            fragment,
+            colliding,
+        }
+    }
+
+    #[test]
+    fn without_effects_every_cube_is_plain() {
+        for l in [look(0.0, false, false), look(5.0, true, true)] {
+            assert_eq!(body_color(l, false), PLAIN);
+        }
+    }
+
+    #[test]
+    fn colliding_wins_over_speed_and_fragment() {
+        assert_eq!(body_color(look(0.3, true, true), true), COLLIDING);
+    }
+
+    #[test]
+    fn faster_cubes_are_warmer() {
+        let slow = body_color(look(0.2, false, false), true);
+        let fast = body_color(look(1.8, false, false), true);
+        assert!(fast[0] > slow[0] && fast[2] < slow[2], "{slow:?} {fast:?}");
+        // Beyond twice the mean, the ramp saturates.
+        assert_eq!(
+            body_color(look(2.0, false, false), true),
+            body_color(look(9.0, false, false), true)
+        );
+    }
+
+    #[test]
+    fn fragments_differ_from_originals_at_the_same_speed() {
+        let original = body_color(look(1.0, false, false), true);
+        let fragment = body_color(look(1.0, true, false), true);
+        assert_ne!(original, fragment);
+        assert!(fragment[0] > original[0], "fragments lean orange");
+    }
+
+    #[test]
+    fn only_non_colliding_sources_are_celestial() {
+        assert!(is_celestial(GravityRole::Source, Interacts(false)));
+        assert!(is_celestial(GravityRole::SourceAndAdopter, Interacts(false)));
+        assert!(!is_celestial(GravityRole::SourceAndAdopter, Interacts(true)));
+        assert!(!is_celestial(GravityRole::Adopter, Interacts(false)));
+    }
+}

@@ -1,0 +1,117 @@
+//! The cameras: orbit (bevy_panorbit_camera), free fly, and follow the
+//! selected body. The camera key (C) and the panel switch between them.
+
+use bevy::core_pipeline::tonemapping::Tonemapping;
+use bevy::input::mouse::AccumulatedMouseMotion;
+use bevy::prelude::*;
+use bevy::render::view::NoIndirectDrawing;
+use bevy_egui::input::EguiWantsInput;
+use bevy_panorbit_camera::PanOrbitCamera;
+
+use super::selection::Selection;
+use super::settings::{CameraMode, SandboxSettings};
+
+/// The one 3D camera.
+#[derive(Component, Debug)]
+pub struct MainCamera;
+
+/// Free-fly speed in world units per second (Shift: ten times that).
+pub const FLY_SPEED: f32 = 600.0;
+/// Radians of turn per pixel of mouse motion.
+const LOOK_SENSITIVITY: f32 = 0.003;
+
+/// Spawns the camera looking at the planet from `distance`.
+pub fn spawn_camera(commands: &mut Commands, distance: f32) {
+    commands.spawn((
+        Name::new("Camera"),
+        MainCamera,
+        Camera3d::default(),
+        Projection::Perspective(PerspectiveProjection {
+            far: 1.0e7,
+            near: 0.5,
+            ..default()
+        }),
+        // Colours are final as the shaders write them (no LUT needed).
+        Tonemapping::None,
+        // The instanced body draw issues direct draws.
+        NoIndirectDrawing,
+        Transform::from_xyz(0.0, distance * 0.45, distance).looking_at(Vec3::ZERO, Vec3::Y),
+        PanOrbitCamera {
+            focus: Vec3::ZERO,
+            radius: Some(distance * 1.1),
+            pitch: Some(0.42),
+            yaw: Some(0.0),
+            zoom_lower_limit: 1.0,
+            ..default()
+        },
+    ));
+}
+
+/// Cycles the camera on C (unless egui has the keyboard).
+pub fn camera_key(keys: Res<ButtonInput<KeyCode>>, egui: Res<EguiWantsInput>, mut settings: ResMut<SandboxSettings>) {
+    if keys.just_pressed(KeyCode::KeyC) && !egui.wants_keyboard_input() {
+        settings.camera = settings.camera.next();
+    }
+}
+
+/// Enables the orbit controller outside free fly, and points it at the
+/// selected body while following.
+pub fn orbit_and_follow(
+    settings: Res<SandboxSettings>,
+    selection: Res<Selection>,
+    bodies: Query<&Transform, Without<MainCamera>>,
+    mut camera: Single<&mut PanOrbitCamera, With<MainCamera>>,
+) {
+    let enabled = settings.camera != CameraMode::Fly;
+    if camera.enabled != enabled {
+        camera.enabled = enabled;
+        // Orbit resumes from where it was; force it to redraw.
+        camera.force_update = true;
+    }
+    if settings.camera == CameraMode::Follow
+        && let Some(target) = selection.entity.and_then(|e| bodies.get(e).ok())
+    {
+        camera.target_focus = target.translation;
+        camera.focus = target.translation;
+        camera.force_update = true;
+    }
+}
+
+/// Free flight: WASD forward/left/back/right, Q/E down/up, Shift fast;
+/// hold the right mouse button to look around.
+pub fn fly_camera(
+    settings: Res<SandboxSettings>,
+    keys: Res<ButtonInput<KeyCode>>,
+    buttons: Res<ButtonInput<MouseButton>>,
+    motion: Res<AccumulatedMouseMotion>,
+    egui: Res<EguiWantsInput>,
+    time: Res<Time<Real>>,
+    mut camera: Single<&mut Transform, With<MainCamera>>,
+) {
+    if settings.camera != CameraMode::Fly {
+        return;
+    }
+    if buttons.pressed(MouseButton::Right) && !egui.wants_pointer_input() && motion.delta != Vec2::ZERO {
+        let (yaw, pitch, _) = camera.rotation.to_euler(EulerRot::YXZ);
+        let yaw = yaw - motion.delta.x * LOOK_SENSITIVITY;
+        let pitch = (pitch - motion.delta.y * LOOK_SENSITIVITY).clamp(-1.54, 1.54);
+        camera.rotation = Quat::from_euler(EulerRot::YXZ, yaw, pitch, 0.0);
+    }
+    if egui.wants_keyboard_input() {
+        return;
+    }
+    let axes = [
+        (KeyCode::KeyW, camera.forward().as_vec3()),
+        (KeyCode::KeyS, camera.back().as_vec3()),
+        (KeyCode::KeyA, camera.left().as_vec3()),
+        (KeyCode::KeyD, camera.right().as_vec3()),
+        (KeyCode::KeyE, Vec3::Y),
+        (KeyCode::KeyQ, Vec3::NEG_Y),
+    ];
+    let direction: Vec3 = axes.iter().filter(|(k, _)| keys.pressed(*k)).map(|(_, d)| *d).sum();
+    if direction != Vec3::ZERO {
+        let fast = keys.any_pressed([KeyCode::ShiftLeft, KeyCode::ShiftRight]);
+        let speed = if fast { FLY_SPEED * 10.0 } else { FLY_SPEED };
+        camera.translation += direction.normalize() * speed * time.delta_secs();
+    }
+}

@@ -1,0 +1,122 @@
+//! Scripted runs: close after `--frames N` frames, save a `--screenshot`,
+//! print frame-time statistics. Used by the window test and the rendering
+//! comparison.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+
+use super::frame_stats::{FrameStats, summarize};
+use super::instancing::InstancedBodies;
+use super::settings::{RenderMethod, SandboxSettings};
+
+/// Frames skipped before frame times count (pipelines compile, buffers fill).
+pub const WARMUP_FRAMES: usize = 10;
+/// Longest a scripted run waits past its frames for the bodies to be drawn
+/// (shader compilation under software rendering is slow).
+pub const READY_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// What a scripted run does.
+#[derive(Resource, Clone, Debug)]
+pub struct ScriptedRun {
+    pub frames: u64,
+    pub screenshot: Option<PathBuf>,
+    pub started: Instant,
+    /// Screenshot requested (waiting for it to be written).
+    pub capturing: bool,
+}
+
+/// Whether the bodies have been drawn at least once (or are not drawn by the
+/// instanced pipeline at all).
+fn bodies_ready(settings: &SandboxSettings, instanced: &Query<&InstancedBodies>) -> bool {
+    if !settings.render_bodies || settings.render_method != RenderMethod::Instanced {
+        return true;
+    }
+    instanced.iter().all(|InstancedBodies(slot)| slot.draws() > 0)
+}
+
+/// After the frames (and once the bodies are on screen), takes the
+/// screenshot or ends the run.
+pub fn scripted_run(
+    mut commands: Commands,
+    mut run: ResMut<ScriptedRun>,
+    stats: Res<FrameStats>,
+    settings: Res<SandboxSettings>,
+    instanced: Query<&InstancedBodies>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    if run.capturing || stats.frames < run.frames {
+        return;
+    }
+    let ready = bodies_ready(&settings, &instanced);
+    let timed_out = run.started.elapsed() > READY_TIMEOUT;
+    if !ready && !timed_out {
+        return;
+    }
+    if !ready {
+        warn!("the bodies were not drawn within {READY_TIMEOUT:?}; finishing anyway");
+    }
+    match run.screenshot.clone() {
+        Some(path) => {
+            run.capturing = true;
+            commands.spawn(Screenshot::primary_window()).observe(
+                move |captured: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
+                    let saved = captured
+                        .image
+                        .clone()
+                        .try_into_dynamic()
+                        .map_err(|e| e.to_string())
+                        .and_then(|img| img.to_rgb8().save(&path).map_err(|e| e.to_string()));
+                    match saved {
+                        Ok(()) => {
+                            eprintln!("kessler: screenshot saved to {}", path.display());
+                            exit.write(AppExit::Success);
+                        }
+                        Err(e) => {
+                            eprintln!("kessler: error: {}: cannot save screenshot: {e}", path.display());
+                            exit.write(AppExit::from_code(1));
+                        }
+                    }
+                },
+            );
+        }
+        None => {
+            exit.write(AppExit::Success);
+        }
+    }
+}
+
+/// Prints the frame-time summary of a scripted run when the app exits.
+pub fn report_frames(
+    mut exits: MessageReader<AppExit>,
+    stats: Res<FrameStats>,
+    settings: Res<SandboxSettings>,
+    bodies: Query<(), With<crate::components::BodyId>>,
+) {
+    if exits.read().next().is_none() {
+        return;
+    }
+    let bodies = bodies.iter().len();
+    let method = if settings.render_bodies {
+        settings.render_method.name()
+    } else {
+        "none"
+    };
+    match summarize(&stats.all, WARMUP_FRAMES) {
+        Some(s) => println!(
+            "frames {} (after {WARMUP_FRAMES} warm-up), bodies {bodies}, render {method}: \
+             mean {:.2} ms, median {:.2} ms, p95 {:.2} ms ({:.1} FPS)",
+            s.frames,
+            s.mean_ms,
+            s.median_ms,
+            s.p95_ms,
+            1e3 / s.mean_ms
+        ),
+        None => println!(
+            "frames {}: too few to time (warm-up is {WARMUP_FRAMES})",
+            stats.all.len()
+        ),
+    }
+}

@@ -1,0 +1,117 @@
+//! The HUD: frame rate, update rate (target against achieved, dropped),
+//! bodies, pairs, shatters, and per-stage timings with a rolling plot.
+
+use bevy::prelude::*;
+use bevy_egui::{EguiContexts, egui};
+
+use crate::resources::StageTimings;
+use crate::systems::{CollisionStats, SimulationSystems};
+
+use super::clock::UpdateClock;
+use super::frame_stats::{FrameStats, HISTORY};
+use super::sandbox::SandboxState;
+use super::settings::{SandboxSettings, SettingsFile};
+
+/// Plot colour of each stage, in [`SimulationSystems::ALL`] order.
+const STAGE_COLORS: [egui::Color32; 5] = [
+    egui::Color32::from_rgb(90, 170, 255),
+    egui::Color32::from_rgb(120, 220, 120),
+    egui::Color32::from_rgb(255, 190, 60),
+    egui::Color32::from_rgb(240, 100, 100),
+    egui::Color32::from_rgb(200, 130, 255),
+];
+
+#[expect(clippy::too_many_arguments, reason = "the HUD shows a little of everything")]
+pub fn hud(
+    mut contexts: EguiContexts,
+    stats: Res<FrameStats>,
+    clock: Res<UpdateClock>,
+    timings: Res<StageTimings>,
+    collisions: Res<CollisionStats>,
+    settings: Res<SandboxSettings>,
+    state: Res<SandboxState>,
+    file: Res<SettingsFile>,
+    bodies: Query<(), With<crate::components::BodyId>>,
+) -> Result {
+    let ctx = contexts.ctx_mut()?;
+    egui::Window::new("HUD")
+        .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
+        .resizable(false)
+        .collapsible(true)
+        .show(ctx, |ui| {
+            ui.label(format!("{:.0} FPS ({:.1} ms/frame)", stats.fps(), stats.smoothed * 1e3));
+            let target = f64::from(settings.updates_per_second) * f64::from(settings.speed);
+            let achieved = clock.achieved_ups();
+            let status = if state.paused { " — paused" } else { "" };
+            ui.label(format!("UPS {achieved:.0} of {target:.0}{status}"));
+            let dropped = clock.dropped_per_second();
+            if dropped > 0.5 {
+                ui.colored_label(
+                    egui::Color32::from_rgb(255, 170, 60),
+                    format!("dropping {dropped:.0} updates/s (can't keep up)"),
+                );
+            }
+            ui.label(format!("bodies {}", bodies.iter().len()));
+            ui.label(format!(
+                "pairs {}   shatters {} (total {})",
+                collisions.pairs, collisions.shatters, collisions.shatters_total
+            ));
+            ui.separator();
+            egui::Grid::new("stage_times").num_columns(3).show(ui, |ui| {
+                ui.label("stage");
+                ui.label("last ms");
+                ui.label("mean ms");
+                ui.end_row();
+                for (stage, color) in SimulationSystems::ALL.into_iter().zip(STAGE_COLORS) {
+                    let t = timings.stage(stage);
+                    ui.colored_label(color, stage.name());
+                    ui.label(format!("{:.3}", t.last_ns as f64 / 1e6));
+                    ui.label(format!("{:.3}", t.mean_ns / 1e6));
+                    ui.end_row();
+                }
+                ui.label("update");
+                ui.label(format!("{:.3}", timings.update.last_ns as f64 / 1e6));
+                ui.label(format!("{:.3}", timings.update.mean_ns / 1e6));
+                ui.end_row();
+            });
+            stage_plot(ui, &stats);
+            if let Some(warning) = &file.warning {
+                ui.separator();
+                ui.colored_label(egui::Color32::from_rgb(255, 170, 60), warning);
+            }
+        });
+    Ok(())
+}
+
+/// Stacked per-stage update time over the last updates.
+fn stage_plot(ui: &mut egui::Ui, stats: &FrameStats) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(260.0, 70.0), egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, egui::Color32::from_black_alpha(90));
+    let history = &stats.stage_history;
+    let peak = history
+        .iter()
+        .map(|s| s.iter().sum::<f32>())
+        .fold(0.0f32, f32::max)
+        .max(1e-3);
+    let x = |i: usize| rect.left() + rect.width() * i as f32 / (HISTORY - 1) as f32;
+    let y = |ms: f32| rect.bottom() - rect.height() * (ms / peak).min(1.0);
+    let mut below = vec![0.0f32; history.len()];
+    for (stage, color) in STAGE_COLORS.iter().enumerate() {
+        let mut top: Vec<egui::Pos2> = Vec::with_capacity(history.len());
+        for (i, sample) in history.iter().enumerate() {
+            below[i] += sample[stage];
+            top.push(egui::pos2(x(i), y(below[i])));
+        }
+        if top.len() > 1 {
+            painter.add(egui::Shape::line(top, egui::Stroke::new(1.5, *color)));
+        }
+    }
+    painter.text(
+        rect.left_top() + egui::vec2(4.0, 2.0),
+        egui::Align2::LEFT_TOP,
+        format!("{peak:.2} ms"),
+        egui::FontId::monospace(10.0),
+        egui::Color32::LIGHT_GRAY,
+    );
+}

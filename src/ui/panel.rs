@@ -1,0 +1,261 @@
+//! The settings panel: every thesis setting, the run controls, the scenario
+//! picker, the camera and the selected body.
+
+use std::path::{Path, PathBuf};
+
+use bevy::prelude::*;
+use bevy_egui::{EguiContexts, egui};
+
+use crate::components::{BodyId, GravityRole, Mass, Velocity};
+use crate::resources::{ExecutionMode, available_threads};
+use crate::rng::Rng;
+
+use super::sandbox::{SandboxState, scenario_files};
+use super::selection::{Selection, selected_info};
+use super::settings::{CameraMode, MAX_BODY_COUNT, RenderMethod, SPEED_RANGE, SandboxSettings, UPS_RANGE};
+
+/// Folder the scenario picker lists.
+pub const SCENARIO_DIR: &str = "scenarios";
+
+/// Text of the "any path" field of the scenario picker.
+#[derive(Default)]
+pub struct PathField(String);
+
+#[expect(clippy::too_many_arguments, reason = "the panel edits settings, state and selection")]
+pub fn panel(
+    mut contexts: EguiContexts,
+    mut settings: ResMut<SandboxSettings>,
+    mut state: ResMut<SandboxState>,
+    mut selection: ResMut<Selection>,
+    bodies: Query<(&BodyId, &Mass, &Velocity, &Transform, &GravityRole)>,
+    keys: Res<ButtonInput<KeyCode>>,
+    mut path_field: Local<PathField>,
+    mut files: Local<Option<Vec<PathBuf>>>,
+) -> Result {
+    let ctx = contexts.ctx_mut()?;
+    if !ctx.egui_wants_keyboard_input() {
+        if keys.just_pressed(KeyCode::Space) {
+            state.paused = !state.paused;
+        }
+        if keys.just_pressed(KeyCode::KeyN) {
+            state.step_requested = true;
+        }
+        if keys.just_pressed(KeyCode::KeyR) {
+            state.restart_requested = true;
+        }
+    }
+    // Edit a copy, so the resource is marked changed only by real edits.
+    let mut edited = settings.clone();
+    let mut viewport = egui::Ui::new(
+        ctx.clone(),
+        "viewport".into(),
+        egui::UiBuilder::new()
+            .layer_id(egui::LayerId::background())
+            .max_rect(ctx.viewport_rect()),
+    );
+    egui::Panel::left("settings")
+        .default_size(270.0)
+        .show_inside(&mut viewport, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                ui.heading("Kessler");
+                ui.label(format!("scenario: {}", state.scenario_name));
+                run_controls(ui, &mut edited, &mut state);
+                ui.separator();
+                execution(ui, &mut edited);
+                ui.separator();
+                physics(ui, &mut edited);
+                ui.separator();
+                scene(ui, &mut edited, &mut state, &mut path_field.0, &mut files);
+                ui.separator();
+                rendering(ui, &mut edited);
+                ui.separator();
+                camera(ui, &mut edited, &mut selection, &bodies);
+            });
+        });
+    if edited != *settings {
+        *settings = edited;
+    }
+    Ok(())
+}
+
+fn run_controls(ui: &mut egui::Ui, settings: &mut SandboxSettings, state: &mut SandboxState) {
+    ui.horizontal(|ui| {
+        let label = if state.paused { "▶ Resume" } else { "⏸ Pause" };
+        if ui.button(label).on_hover_text("Space").clicked() {
+            state.paused = !state.paused;
+        }
+        if ui
+            .add_enabled(state.paused, egui::Button::new("Step"))
+            .on_hover_text("N")
+            .clicked()
+        {
+            state.step_requested = true;
+        }
+        if ui
+            .button("⟲ Restart")
+            .on_hover_text("R: rebuild the scene with these settings")
+            .clicked()
+        {
+            state.restart_requested = true;
+        }
+    });
+    ui.add(egui::Slider::new(&mut settings.updates_per_second, UPS_RANGE).text("updates/s"));
+    ui.add(
+        egui::Slider::new(&mut settings.speed, SPEED_RANGE)
+            .logarithmic(true)
+            .text("speed ×"),
+    );
+}
+
+fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
+    ui.label("Execution");
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut settings.mode, ExecutionMode::Sequential, "sequential");
+        ui.radio_value(&mut settings.mode, ExecutionMode::Parallel, "parallel");
+    });
+    let most = u16::try_from(available_threads() * 2).unwrap_or(u16::MAX).max(2);
+    ui.add_enabled(
+        settings.mode == ExecutionMode::Parallel,
+        egui::Slider::new(&mut settings.threads, 1..=most).text("threads"),
+    );
+}
+
+fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
+    ui.label("Stages");
+    ui.checkbox(&mut settings.gravity, "gravity");
+    ui.checkbox(&mut settings.collisions, "collision detection");
+    ui.add_enabled(
+        settings.collisions,
+        egui::Checkbox::new(&mut settings.collision_effects, "collision effects (bounce, shatter)"),
+    );
+    ui.add(egui::Slider::new(&mut settings.shatter_fragments, 2..=20).text("shatter fragments"));
+    ui.add(
+        egui::Slider::new(&mut settings.shatter_threshold, 0.0..=50.0)
+            .logarithmic(true)
+            .text("impact threshold"),
+    );
+}
+
+fn scene(
+    ui: &mut egui::Ui,
+    settings: &mut SandboxSettings,
+    state: &mut SandboxState,
+    path_field: &mut String,
+    files: &mut Option<Vec<PathBuf>>,
+) {
+    ui.label("Scene (applies on restart)");
+    let mut own_count = settings.body_count.is_some();
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut own_count, "body count");
+        let mut count = settings.body_count.unwrap_or_else(|| generated_count(state));
+        ui.add_enabled(
+            own_count,
+            egui::DragValue::new(&mut count).range(0..=MAX_BODY_COUNT).speed(100.0),
+        );
+        settings.body_count = own_count.then_some(count);
+    });
+    ui.horizontal(|ui| {
+        ui.label("seed");
+        ui.add(egui::DragValue::new(&mut settings.seed));
+        if ui.button("🎲 randomise").clicked() {
+            settings.seed = random_seed();
+        }
+    });
+    let files = files.get_or_insert_with(|| scenario_files(Path::new(SCENARIO_DIR)));
+    let shown = settings
+        .scenario
+        .as_ref()
+        .map_or_else(|| "built-in debris field".to_owned(), |p| p.display().to_string());
+    egui::ComboBox::from_label("scenario")
+        .selected_text(shown)
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut settings.scenario, None, "built-in debris field");
+            for file in files.iter() {
+                ui.selectable_value(&mut settings.scenario, Some(file.clone()), file.display().to_string());
+            }
+        });
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::TextEdit::singleline(path_field)
+                .hint_text("any scenario path")
+                .desired_width(170.0),
+        );
+        if ui
+            .add_enabled(!path_field.trim().is_empty(), egui::Button::new("use"))
+            .clicked()
+        {
+            settings.scenario = Some(PathBuf::from(path_field.trim()));
+        }
+    });
+    let pending = state.pending_restart(settings);
+    if !pending.is_empty() {
+        ui.colored_label(
+            egui::Color32::from_rgb(255, 200, 90),
+            format!("restart to apply: {}", pending.join(", ")),
+        );
+    }
+    if let Some(error) = &state.error {
+        ui.colored_label(egui::Color32::from_rgb(255, 110, 110), error);
+    }
+}
+
+fn rendering(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
+    ui.label("Rendering");
+    ui.checkbox(&mut settings.render_bodies, "render bodies");
+    ui.checkbox(&mut settings.visual_effects, "visual effects (colour by state)");
+    ui.checkbox(&mut settings.show_collision_boxes, "planet collision box");
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut settings.render_method, RenderMethod::Instanced, "instanced");
+        ui.radio_value(&mut settings.render_method, RenderMethod::Meshes, "mesh per body");
+    });
+}
+
+fn camera(
+    ui: &mut egui::Ui,
+    settings: &mut SandboxSettings,
+    selection: &mut Selection,
+    bodies: &Query<(&BodyId, &Mass, &Velocity, &Transform, &GravityRole)>,
+) {
+    ui.label("Camera (C cycles)");
+    ui.horizontal(|ui| {
+        for mode in CameraMode::ALL {
+            ui.radio_value(&mut settings.camera, mode, mode.name());
+        }
+    });
+    ui.small(match settings.camera {
+        CameraMode::Orbit | CameraMode::Follow => "drag: orbit · right-drag: pan · wheel: zoom",
+        CameraMode::Fly => "WASD move · Q/E down/up · Shift fast · right-drag look",
+    });
+    match selected_info(selection, bodies) {
+        Some(info) => {
+            ui.label(format!("selected body {}", info.id.0));
+            ui.label(format!("mass {:.3}   speed {:.3}", info.mass, info.speed));
+            ui.label(format!(
+                "role {}   at ({:.0}, {:.0}, {:.0})",
+                info.role.name(),
+                info.position.x,
+                info.position.y,
+                info.position.z
+            ));
+            if ui.button("clear selection").clicked() {
+                selection.entity = None;
+            }
+        }
+        None => {
+            ui.small("click a body to select it");
+        }
+    }
+}
+
+/// Bodies the loaded scenario's generators make.
+fn generated_count(state: &SandboxState) -> u64 {
+    state.scenario.generators.iter().map(|g| g.count()).sum()
+}
+
+/// A fresh seed from the clock.
+fn random_seed() -> u64 {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64);
+    Rng::new(nanos).next_u64()
+}

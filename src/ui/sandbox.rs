@@ -1,0 +1,321 @@
+//! The running scene: which scenario is loaded, building the bodies from it
+//! (at start and on restart), and the planet and moons drawn as spheres.
+
+use std::path::{Path, PathBuf};
+
+use bevy::prelude::*;
+
+use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts};
+use crate::resources::{NextBodyId, SimulationSettings, StageTimings};
+use crate::scenario::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, Scenario};
+use crate::systems::{CollisionStats, OverlappingPairs};
+
+use super::body_colors::is_celestial;
+use super::clock::UpdateClock;
+use super::settings::SandboxSettings;
+
+/// State of the sandbox beyond its settings.
+#[derive(Resource, Debug)]
+pub struct SandboxState {
+    /// The loaded scenario, as read from its file.
+    pub scenario: Scenario,
+    /// File name or `built-in` of the loaded scenario.
+    pub scenario_name: String,
+    /// Bodies with an id from here on were born in a shatter.
+    pub first_fragment_id: u64,
+    /// Simulation halted (rendering goes on).
+    pub paused: bool,
+    /// Run exactly one update next frame (while paused).
+    pub step_requested: bool,
+    /// Rebuild the scene from the scenario and the settings next frame.
+    pub restart_requested: bool,
+    /// The settings the scene was last built with, to tell which pending
+    /// changes need a restart.
+    pub built_with: SandboxSettings,
+    /// Last problem (a scenario that would not load), shown in the panel.
+    pub error: Option<String>,
+}
+
+impl SandboxState {
+    pub fn new(scenario: Scenario, scenario_name: String, settings: &SandboxSettings) -> Self {
+        Self {
+            scenario,
+            scenario_name,
+            first_fragment_id: 0,
+            paused: false,
+            step_requested: false,
+            restart_requested: true,
+            built_with: settings.clone(),
+            error: None,
+        }
+    }
+
+    /// Names of the changed settings that only take effect on restart.
+    pub fn pending_restart(&self, settings: &SandboxSettings) -> Vec<&'static str> {
+        let built = &self.built_with;
+        let mut pending = Vec::new();
+        if settings.body_count != built.body_count {
+            pending.push("body count");
+        }
+        if settings.seed != built.seed {
+            pending.push("seed");
+        }
+        if settings.scenario != built.scenario {
+            pending.push("scenario");
+        }
+        pending
+    }
+}
+
+/// Reads the scenario at `path` (or the built-in one); the error is one line
+/// naming the file.
+pub fn read_scenario(path: Option<&Path>) -> Result<(Scenario, String), String> {
+    match path {
+        Some(path) => Scenario::load(path)
+            .map(|s| (s, path.display().to_string()))
+            .map_err(|e| e.to_string()),
+        None => Scenario::parse(DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME)
+            .map(|s| (s, DEFAULT_SCENARIO_NAME.to_owned()))
+            .map_err(|e| e.to_string()),
+    }
+}
+
+/// The scenario files in `dir` (sorted), for the picker.
+pub fn scenario_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The bodies a restart builds: the scenario with the chosen seed and body
+/// count.
+pub fn build_bodies(
+    scenario: &Scenario,
+    name: &str,
+    settings: &SandboxSettings,
+) -> Result<(Vec<BodyState>, SimulationSettings), String> {
+    let mut scenario = scenario.clone();
+    scenario.seed = settings.seed;
+    if let Some(count) = settings.body_count {
+        scenario = scenario
+            .with_generated(count)
+            .ok_or_else(|| format!("{name}: has no generators, so its body count cannot be changed"))?;
+    }
+    let bodies = scenario.bodies(name).map_err(|e| e.to_string())?;
+    let mut physics = scenario.settings();
+    settings.apply_physics(&mut physics);
+    Ok((bodies, physics))
+}
+
+/// A sphere standing for a celestial body.
+#[derive(Component, Debug)]
+pub struct CelestialVisual {
+    pub body: Entity,
+}
+
+/// The translucent collision box of a celestial body.
+#[derive(Component, Debug)]
+pub struct CollisionBoxVisual;
+
+/// Rebuilds the scene when a restart is requested: all bodies despawned,
+/// the scenario's bodies spawned with the current settings.
+pub fn restart_scene(world: &mut World) {
+    if !world.resource::<SandboxState>().restart_requested {
+        return;
+    }
+    let settings = world.resource::<SandboxSettings>().clone();
+    let result = {
+        let state = world.resource::<SandboxState>();
+        build_bodies(&state.scenario, &state.scenario_name, &settings)
+    };
+    let mut state = world.resource_mut::<SandboxState>();
+    state.restart_requested = false;
+    let (bodies, physics) = match result {
+        Ok(built) => built,
+        Err(e) => {
+            warn!("{e}");
+            state.error = Some(e);
+            return;
+        }
+    };
+    state.error = None;
+    state.built_with = settings;
+
+    let old: Vec<Entity> = world
+        .query_filtered::<Entity, Or<(With<BodyId>, With<CelestialVisual>)>>()
+        .iter(world)
+        .collect();
+    for entity in old {
+        world.despawn(entity);
+    }
+    let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
+    world.spawn_batch(bodies.iter().map(BodyState::bundle)).for_each(drop);
+    world.insert_resource(NextBodyId(next));
+    world.insert_resource(physics);
+    world.resource_mut::<SandboxState>().first_fragment_id = next;
+    world
+        .resource_mut::<CollisionStats>()
+        .clone_from(&CollisionStats::default());
+    world.resource_mut::<OverlappingPairs>().0.clear();
+    world.resource_mut::<StageTimings>().reset();
+    world.resource_mut::<UpdateClock>().reset_owed();
+    spawn_celestial_visuals(world);
+    info!("scene built: {} bodies", bodies.len());
+}
+
+fn spawn_celestial_visuals(world: &mut World) {
+    let celestials: Vec<(Entity, Vec3, Vec3, f32)> = world
+        .query::<(
+            Entity,
+            &Transform,
+            &HalfExtents,
+            &GravityRole,
+            &Interacts,
+            &crate::components::Mass,
+        )>()
+        .iter(world)
+        .filter(|(_, _, _, role, interacts, _)| is_celestial(**role, **interacts))
+        .map(|(e, t, h, _, _, m)| (e, t.translation, h.0, m.0))
+        .collect();
+    let heaviest = celestials.iter().map(|c| c.3).fold(0.0f32, f32::max);
+    let sphere = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Sphere::new(1.0).mesh().uv(64, 32));
+    let cube = world.resource_mut::<Assets<Mesh>>().add(Cuboid::new(2.0, 2.0, 2.0));
+    let mut materials = world.resource_mut::<Assets<StandardMaterial>>();
+    let planet = materials.add(StandardMaterial {
+        base_color: Color::srgb(0.18, 0.38, 0.72),
+        perceptual_roughness: 0.7,
+        ..default()
+    });
+    let moon = materials.add(StandardMaterial {
+        base_color: Color::srgb(0.6, 0.58, 0.55),
+        perceptual_roughness: 0.95,
+        ..default()
+    });
+    let box_material = materials.add(StandardMaterial {
+        base_color: Color::srgba(0.4, 0.9, 0.5, 0.12),
+        alpha_mode: AlphaMode::Blend,
+        unlit: true,
+        ..default()
+    });
+    for (body, position, half, mass) in celestials {
+        let radius = half.min_element();
+        let material = if mass >= heaviest { planet.clone() } else { moon.clone() };
+        world
+            .spawn((
+                Name::new("Celestial"),
+                CelestialVisual { body },
+                Mesh3d(sphere.clone()),
+                MeshMaterial3d(material),
+                Transform::from_translation(position).with_scale(Vec3::splat(radius)),
+            ))
+            .with_child((
+                CollisionBoxVisual,
+                Mesh3d(cube.clone()),
+                MeshMaterial3d(box_material.clone()),
+                Transform::from_scale(half / radius),
+                Visibility::Hidden,
+            ));
+    }
+}
+
+/// Moves the spheres with their bodies and shows or hides collision boxes.
+pub fn follow_celestials(
+    mut visuals: Query<(Entity, &CelestialVisual, &mut Transform)>,
+    bodies: Query<&Transform, (With<BodyId>, Without<CelestialVisual>)>,
+    mut boxes: Query<&mut Visibility, With<CollisionBoxVisual>>,
+    settings: Res<SandboxSettings>,
+    mut commands: Commands,
+) {
+    for (entity, visual, mut transform) in &mut visuals {
+        match bodies.get(visual.body) {
+            Ok(body) => transform.translation = body.translation,
+            Err(_) => commands.entity(entity).despawn(),
+        }
+    }
+    let wanted = if settings.show_collision_boxes {
+        Visibility::Inherited
+    } else {
+        Visibility::Hidden
+    };
+    for mut visibility in &mut boxes {
+        visibility.set_if_neq(wanted);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn restart_builds_the_chosen_body_count_and_seed() {
+        let (scenario, name) = read_scenario(None).unwrap();
+        let settings = SandboxSettings {
+            body_count: Some(500),
+            seed: 7,
+            ..SandboxSettings::default()
+        };
+        let (bodies, physics) = build_bodies(&scenario, &name, &settings).unwrap();
+        assert_eq!(bodies.len(), scenario.bodies.len() + 500);
+        assert_eq!(physics.seed, 7);
+        let other = SandboxSettings { seed: 8, ..settings };
+        let (reseeded, _) = build_bodies(&scenario, &name, &other).unwrap();
+        assert_ne!(bodies, reseeded, "the seed reaches the generators");
+    }
+
+    #[test]
+    fn live_switches_reach_the_physics() {
+        let (scenario, name) = read_scenario(None).unwrap();
+        let settings = SandboxSettings {
+            body_count: Some(10),
+            gravity: false,
+            collision_effects: false,
+            shatter_fragments: 9,
+            shatter_threshold: 1.5,
+            ..SandboxSettings::default()
+        };
+        let (_, physics) = build_bodies(&scenario, &name, &settings).unwrap();
+        assert!(!physics.gravity && physics.collisions && !physics.collision_response);
+        assert_eq!((physics.shatter_fragments, physics.shatter_threshold), (9, 1.5));
+        assert_eq!(physics.time_step, scenario.time_step);
+    }
+
+    #[test]
+    fn a_scenario_without_generators_refuses_a_body_count() {
+        let text = "Scenario(bodies: [Body(position: (0.0, 0.0, 0.0))])";
+        let scenario = Scenario::parse(text, "one.ron").unwrap();
+        let settings = SandboxSettings {
+            body_count: Some(10),
+            ..SandboxSettings::default()
+        };
+        let err = build_bodies(&scenario, "one.ron", &settings).unwrap_err();
+        assert!(err.contains("one.ron") && err.contains("generators"), "{err}");
+    }
+
+    #[test]
+    fn restart_only_settings_are_reported_as_pending() {
+        let settings = SandboxSettings::default();
+        let state = SandboxState::new(read_scenario(None).unwrap().0, "x".into(), &settings);
+        let changed = SandboxSettings {
+            seed: 42,
+            gravity: false,
+            updates_per_second: 300,
+            ..settings
+        };
+        assert_eq!(state.pending_restart(&changed), vec!["seed"]);
+    }
+
+    #[test]
+    fn picker_lists_the_shipped_scenarios() {
+        let files = scenario_files(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios")));
+        assert!(files.iter().any(|f| f.ends_with("debris_orbit.ron")), "{files:?}");
+        assert!(files.windows(2).all(|w| w[0] <= w[1]));
+    }
+}

@@ -1,0 +1,146 @@
+//! Selecting a body: a click casts a ray from the camera, the nearest box it
+//! hits is selected and shown in the panel; the follow camera tracks it.
+
+use bevy::prelude::*;
+use bevy_egui::input::EguiWantsInput;
+
+use crate::components::{BodyId, GravityRole, HalfExtents, Mass, Velocity};
+
+use super::camera::MainCamera;
+
+/// The selected body, if any.
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct Selection {
+    pub entity: Option<Entity>,
+}
+
+/// Cursor travel in pixels up to which a press and release count as a click
+/// (more is a camera drag).
+const CLICK_SLOP: f32 = 4.0;
+
+/// Distance along the ray (`origin + t·direction`) at which it enters the
+/// box `center ± half`, if it hits it in front of the origin (slab test).
+pub fn ray_box(origin: Vec3, direction: Vec3, center: Vec3, half: Vec3) -> Option<f32> {
+    let inv = direction.recip();
+    let t1 = (center - half - origin) * inv;
+    let t2 = (center + half - origin) * inv;
+    let near = t1.min(t2).max_element();
+    let far = t1.max(t2).min_element();
+    (far >= near.max(0.0) && !near.is_nan()).then_some(near.max(0.0))
+}
+
+/// Index and distance of the nearest box hit by the ray.
+pub fn nearest_hit(origin: Vec3, direction: Vec3, boxes: impl Iterator<Item = (Vec3, Vec3)>) -> Option<(usize, f32)> {
+    boxes
+        .enumerate()
+        .filter_map(|(i, (c, h))| ray_box(origin, direction, c, h).map(|t| (i, t)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// Selects the body under the cursor on a left click that was not a drag
+/// and not on the panel.
+pub fn select_on_click(
+    buttons: Res<ButtonInput<MouseButton>>,
+    window: Single<&Window>,
+    camera: Single<(&Camera, &GlobalTransform), With<MainCamera>>,
+    egui: Res<EguiWantsInput>,
+    bodies: Query<(Entity, &Transform, &HalfExtents)>,
+    mut pressed_at: Local<Option<Vec2>>,
+    mut selection: ResMut<Selection>,
+) {
+    let cursor = window.cursor_position();
+    if buttons.just_pressed(MouseButton::Left) {
+        *pressed_at = cursor.filter(|_| !egui.wants_pointer_input());
+    }
+    if !buttons.just_released(MouseButton::Left) {
+        return;
+    }
+    let (Some(start), Some(end)) = (pressed_at.take(), cursor) else {
+        return;
+    };
+    if start.distance(end) > CLICK_SLOP {
+        return;
+    }
+    let (camera, camera_transform) = *camera;
+    let Ok(ray) = camera.viewport_to_world(camera_transform, end) else {
+        return;
+    };
+    let candidates: Vec<(Entity, Vec3, Vec3)> = bodies.iter().map(|(e, t, h)| (e, t.translation, h.0)).collect();
+    let hit = nearest_hit(ray.origin, *ray.direction, candidates.iter().map(|&(_, c, h)| (c, h)));
+    selection.entity = hit.map(|(i, _)| candidates[i].0);
+}
+
+/// What the panel shows of the selected body.
+#[derive(Clone, Copy, Debug)]
+pub struct SelectedInfo {
+    pub id: BodyId,
+    pub mass: f32,
+    pub speed: f32,
+    pub position: Vec3,
+    pub role: GravityRole,
+}
+
+/// The selected body's data, or `None` (and the selection cleared) if it
+/// no longer exists, e.g. because it shattered.
+pub fn selected_info(
+    selection: &mut Selection,
+    bodies: &Query<(&BodyId, &Mass, &Velocity, &Transform, &GravityRole)>,
+) -> Option<SelectedInfo> {
+    let entity = selection.entity?;
+    match bodies.get(entity) {
+        Ok((id, mass, velocity, transform, role)) => Some(SelectedInfo {
+            id: *id,
+            mass: mass.0,
+            speed: velocity.0.length(),
+            position: transform.translation,
+            role: *role,
+        }),
+        Err(_) => {
+            selection.entity = None;
+            None
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ray_enters_box_at_its_near_face() {
+        let t = ray_box(Vec3::new(-10.0, 0.5, 0.0), Vec3::X, Vec3::ZERO, Vec3::ONE).unwrap();
+        assert!((t - 9.0).abs() < 1e-6, "{t}");
+    }
+
+    #[test]
+    fn ray_misses_box_beside_it_and_behind_it() {
+        assert!(ray_box(Vec3::new(-10.0, 2.5, 0.0), Vec3::X, Vec3::ZERO, Vec3::ONE).is_none());
+        assert!(ray_box(Vec3::new(10.0, 0.0, 0.0), Vec3::X, Vec3::ZERO, Vec3::ONE).is_none());
+    }
+
+    #[test]
+    fn ray_from_inside_hits_at_zero() {
+        assert_eq!(ray_box(Vec3::ZERO, Vec3::Y, Vec3::ZERO, Vec3::ONE), Some(0.0));
+    }
+
+    #[test]
+    fn diagonal_ray_hits_a_corner_region() {
+        let dir = Vec3::new(1.0, 1.0, 1.0).normalize();
+        let t = ray_box(Vec3::splat(-5.0), dir, Vec3::ZERO, Vec3::ONE).unwrap();
+        // Enters at (-1, -1, -1): distance sqrt(3) * 4.
+        assert!((t - 4.0 * 3f32.sqrt()).abs() < 1e-5, "{t}");
+    }
+
+    #[test]
+    fn nearest_of_several_boxes_on_the_ray_wins() {
+        let boxes = [
+            (Vec3::new(30.0, 0.0, 0.0), Vec3::ONE),
+            (Vec3::new(10.0, 0.0, 0.0), Vec3::ONE),
+            (Vec3::new(20.0, 0.0, 0.0), Vec3::splat(5.0)),
+            (Vec3::new(5.0, 9.0, 0.0), Vec3::ONE),
+        ];
+        let (i, t) = nearest_hit(Vec3::ZERO, Vec3::X, boxes.into_iter()).unwrap();
+        assert_eq!(i, 1);
+        assert!((t - 9.0).abs() < 1e-6);
+    }
+}
