@@ -68,6 +68,9 @@ fn headless_dump_has_the_contract_format() {
     assert_eq!(x.to_string(), body[1]);
 }
 
+/// Without the `gui` feature, `kessler` simulates headless instead of
+/// opening a window (the window itself is tested in `tests/window.rs`).
+#[cfg(not(feature = "gui"))]
 #[test]
 fn run_without_window_simulates_the_default_scene() {
     let out = kessler().output().unwrap();

@@ -54,33 +54,49 @@ pub fn is_celestial(role: GravityRole, interacts: Interacts) -> bool {
     role.is_source() && !interacts.0
 }
 
+/// Buffers of [`gather_instances`], kept between frames.
+#[derive(Default)]
+pub struct GatherScratch {
+    staging: Vec<InstanceData>,
+    /// Indexed by entity index: in an overlapping pair this update.
+    colliding: Vec<bool>,
+    /// Mean cube speed of the previous frame (the colour ramp's scale).
+    mean_speed: f32,
+}
+
+/// The components a cube's instance is made of.
+type CubeQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        &'static BodyId,
+        &'static Transform,
+        &'static HalfExtents,
+        &'static Velocity,
+        &'static GravityRole,
+        &'static Interacts,
+    ),
+>;
+
 /// Packs every cube into the instance slot (instanced method, bodies shown);
 /// an empty slot otherwise.
-#[expect(
-    clippy::type_complexity,
-    reason = "one query over the body components the colour needs"
-)]
 pub fn gather_instances(
-    bodies: Query<(
-        Entity,
-        &BodyId,
-        &Transform,
-        &HalfExtents,
-        &Velocity,
-        &GravityRole,
-        &Interacts,
-    )>,
+    bodies: CubeQuery,
     instanced: Query<&InstancedBodies>,
     pairs: Res<OverlappingPairs>,
     settings: Res<SandboxSettings>,
     state: Res<SandboxState>,
-    mut staging: Local<Vec<InstanceData>>,
-    mut colliding: Local<Vec<bool>>,
-    mut mean_speed: Local<f32>,
+    mut scratch: Local<GatherScratch>,
 ) {
     let Some(InstancedBodies(slot)) = instanced.iter().next() else {
         return;
     };
+    let GatherScratch {
+        staging,
+        colliding,
+        mean_speed,
+    } = &mut *scratch;
     staging.clear();
     if settings.render_bodies && settings.render_method == RenderMethod::Instanced {
         colliding.clear();
@@ -119,7 +135,7 @@ pub fn gather_instances(
             *mean_speed = (speed_sum / counted as f64) as f32;
         }
     }
-    slot.publish(&mut staging);
+    slot.publish(staging);
 }
 
 #[cfg(test)]

@@ -40,7 +40,7 @@ pub fn spawn_camera(commands: &mut Commands, distance: f32) {
             focus: Vec3::ZERO,
             radius: Some(distance * 1.1),
             pitch: Some(0.42),
-            yaw: Some(0.0),
+            yaw: Some(0.55),
             zoom_lower_limit: 1.0,
             ..default()
         },

@@ -63,7 +63,7 @@ pub fn starfield_mesh(count: usize, radius: f32, seed: u64) -> Mesh {
         let phi = (rng.unit() as f32) * std::f32::consts::TAU;
         let r = (1.0 - z * z).max(0.0).sqrt();
         let dir = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-        let size = radius * 0.0012 * (1.0 + 2.0 * (rng.unit() as f32).powi(6));
+        let size = radius * 0.0007 * (1.0 + 2.0 * (rng.unit() as f32).powi(6));
         let center = dir * radius;
         let (u, v) = dir.any_orthonormal_pair();
         for k in 0..3 {

@@ -1,0 +1,139 @@
+//! The window as a user sees it: `kessler run --frames N --screenshot` under
+//! Xvfb with Mesa's software Vulkan (`.ci/run` installs both), and the
+//! pictures checked for the planet and the bodies.
+
+#![cfg(feature = "gui")]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Runs the window app under a virtual X server; returns its stdout.
+fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBuf, String) {
+    let shot = dir.join(format!("{name}.png"));
+    let settings_path = dir.join(format!("{name}-settings.ron"));
+    std::fs::write(&settings_path, settings).unwrap();
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_kessler"))
+        .args(["run", "--frames", "20", "--screenshot"])
+        .arg(&shot)
+        .arg("--settings")
+        .arg(&settings_path)
+        .args(extra)
+        .env("WGPU_BACKEND", "vulkan")
+        .output()
+        .expect("xvfb-run must be installed (apt: xvfb, mesa-vulkan-drivers)");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "{name}: exit {:?}\n{stdout}\n{stderr}",
+        out.status
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(shot.exists(), "{name}: no screenshot\n{stderr}");
+    (shot, stdout)
+}
+
+struct Picture {
+    width: usize,
+    height: usize,
+    rgb: Vec<u8>,
+}
+
+impl Picture {
+    fn load(path: &Path) -> Self {
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!(info.color_type, png::ColorType::Rgb, "screenshots are saved as RGB");
+        buf.truncate(info.buffer_size());
+        Self {
+            width: info.width as usize,
+            height: info.height as usize,
+            rgb: buf,
+        }
+    }
+
+    fn pixel(&self, x: usize, y: usize) -> [u8; 3] {
+        let i = (y * self.width + x) * 3;
+        [self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]]
+    }
+
+    /// Pixels of the 3D view below the HUD and right of the panel.
+    fn scene_pixels(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (self.height / 2..self.height).flat_map(move |y| (300..self.width - 300).map(move |x| (x, y)))
+    }
+}
+
+fn differs(a: [u8; 3], b: [u8; 3]) -> bool {
+    a.iter().zip(b).any(|(x, y)| x.abs_diff(y) > 24)
+}
+
+#[test]
+fn window_shows_the_planet_and_the_bodies() {
+    let dir = tempfile::tempdir().unwrap();
+    let (with_bodies, report) = run_window(dir.path(), "bodies", "()", &[]);
+    let (without, _) = run_window(dir.path(), "empty", "(render_bodies: false)", &[]);
+    let (meshes, mesh_report) = run_window(dir.path(), "meshes", "()", &["--render", "meshes", "--bodies", "5000"]);
+    assert!(report.contains("render instanced"), "{report}");
+    assert!(mesh_report.contains("render meshes"), "{mesh_report}");
+
+    let with_bodies = Picture::load(&with_bodies);
+    let without = Picture::load(&without);
+    let meshes = Picture::load(&meshes);
+    assert_eq!((with_bodies.width, with_bodies.height), (1280, 800));
+
+    // Not blank: many distinct colours.
+    let mut colours: Vec<[u8; 3]> = with_bodies.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    colours.sort_unstable();
+    colours.dedup();
+    assert!(colours.len() > 200, "only {} colours", colours.len());
+
+    // The planet fills the middle of the view: a lit blue sphere.
+    let [r, g, b] = with_bodies.pixel(with_bodies.width / 2, with_bodies.height / 2);
+    assert!(
+        b > 100 && b > r + 40 && b > g,
+        "centre pixel {:?} is not the planet",
+        [r, g, b]
+    );
+
+    // The bodies: the debris field changes thousands of pixels of the view
+    // against the same scene drawn without bodies, in both drawing methods.
+    for (name, picture) in [("instanced", &with_bodies), ("meshes", &meshes)] {
+        let changed = with_bodies
+            .scene_pixels()
+            .filter(|&(x, y)| differs(picture.pixel(x, y), without.pixel(x, y)))
+            .count();
+        assert!(changed > 1000, "{name}: only {changed} pixels show bodies");
+    }
+}
+
+#[test]
+fn broken_settings_warn_and_survive_a_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let broken = "(threads: \"many\"";
+    let (_, _) = run_window(dir.path(), "broken", broken, &["--paused", "--bodies", "100"]);
+    let kept = std::fs::read_to_string(dir.path().join("broken-settings.ron")).unwrap();
+    assert_eq!(kept, broken, "an unchanged session must not rewrite the file");
+}
+
+#[test]
+fn screenshot_never_overwrites() {
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("exists.png");
+    std::fs::write(&shot, "precious").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+        .args(["run", "--frames", "1", "--screenshot"])
+        .arg(&shot)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("exists.png") && stderr.contains("already exists"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_to_string(&shot).unwrap(), "precious");
+}
