@@ -7,8 +7,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Runs the window app under a virtual X server; returns its stdout.
-fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBuf, String) {
+/// Runs the window app under a virtual X server; returns the screenshot,
+/// stdout and stderr.
+fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBuf, String, String) {
     let shot = dir.join(format!("{name}.png"));
     let settings_path = dir.join(format!("{name}-settings.ron"));
     std::fs::write(&settings_path, settings).unwrap();
@@ -24,7 +25,7 @@ fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBu
         .output()
         .expect("xvfb-run must be installed (apt: xvfb, mesa-vulkan-drivers)");
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(
         out.status.success(),
         "{name}: exit {:?}\n{stdout}\n{stderr}",
@@ -32,7 +33,7 @@ fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBu
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(shot.exists(), "{name}: no screenshot\n{stderr}");
-    (shot, stdout)
+    (shot, stdout, stderr)
 }
 
 struct Picture {
@@ -74,9 +75,9 @@ fn differs(a: [u8; 3], b: [u8; 3]) -> bool {
 #[test]
 fn window_shows_the_planet_and_the_bodies() {
     let dir = tempfile::tempdir().unwrap();
-    let (with_bodies, report) = run_window(dir.path(), "bodies", "()", &[]);
-    let (without, _) = run_window(dir.path(), "empty", "(render_bodies: false)", &[]);
-    let (meshes, mesh_report) = run_window(dir.path(), "meshes", "()", &["--render", "meshes", "--bodies", "5000"]);
+    let (with_bodies, report, _) = run_window(dir.path(), "bodies", "()", &[]);
+    let (without, ..) = run_window(dir.path(), "empty", "(render_bodies: false)", &[]);
+    let (meshes, mesh_report, _) = run_window(dir.path(), "meshes", "()", &["--render", "meshes", "--bodies", "5000"]);
     assert!(report.contains("render instanced"), "{report}");
     assert!(mesh_report.contains("render meshes"), "{mesh_report}");
 
@@ -114,7 +115,11 @@ fn window_shows_the_planet_and_the_bodies() {
 fn broken_settings_warn_and_survive_a_run() {
     let dir = tempfile::tempdir().unwrap();
     let broken = "(threads: \"many\"";
-    let (_, _) = run_window(dir.path(), "broken", broken, &["--paused", "--bodies", "100"]);
+    let (.., stderr) = run_window(dir.path(), "broken", broken, &["--paused", "--bodies", "100"]);
+    assert!(
+        stderr.contains("warning") && stderr.contains("broken-settings.ron"),
+        "no warning naming the file: {stderr}"
+    );
     let kept = std::fs::read_to_string(dir.path().join("broken-settings.ron")).unwrap();
     assert_eq!(kept, broken, "an unchanged session must not rewrite the file");
 }
@@ -130,7 +135,7 @@ fn screenshot_never_overwrites() {
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(
         stderr.contains("exists.png") && stderr.contains("already exists"),
         "{stderr}"

@@ -61,6 +61,8 @@ pub struct InstanceData {
 #[derive(Debug, Default)]
 pub struct InstanceSlot {
     data: Mutex<Vec<InstanceData>>,
+    /// Bumped by every publish; the render world uploads only new data.
+    generation: AtomicU64,
     draws: AtomicU64,
 }
 
@@ -70,6 +72,7 @@ impl InstanceSlot {
     pub fn publish(&self, instances: &mut Vec<InstanceData>) {
         let mut slot = self.data.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         std::mem::swap(&mut *slot, instances);
+        self.generation.fetch_add(1, Ordering::Release);
     }
 
     /// Instanced draws submitted so far (0 until the pipeline is compiled).
@@ -140,6 +143,8 @@ struct BodyInstanceBuffer {
     capacity: usize,
     /// Instances to draw this frame.
     length: usize,
+    /// Generation of the data in the buffer.
+    uploaded: Option<u64>,
     slot: Option<Arc<InstanceSlot>>,
 }
 
@@ -154,6 +159,11 @@ fn prepare_body_buffer(
         return;
     };
     let data = slot.data.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let generation = slot.generation.load(Ordering::Acquire);
+    if gpu.uploaded == Some(generation) {
+        // Nothing new (paused, or the frame ran no update): draw what is there.
+        return;
+    }
     if data.len() > gpu.capacity || gpu.buffer.is_none() {
         // Grow by half again, so a growing debris field reallocates rarely.
         let capacity = (data.len() + data.len() / 2).max(1024);
@@ -171,6 +181,7 @@ fn prepare_body_buffer(
         queue.write_buffer(buffer, 0, bytemuck::cast_slice(data.as_slice()));
     }
     gpu.length = data.len();
+    gpu.uploaded = Some(generation);
     drop(data);
     gpu.slot = Some(slot.clone());
 }

@@ -34,6 +34,10 @@ pub struct SandboxState {
     pub built_with: SandboxSettings,
     /// Last problem (a scenario that would not load), shown in the panel.
     pub error: Option<String>,
+    /// Counts scene builds (so views know the bodies were replaced).
+    pub generation: u64,
+    /// File of the loaded scenario (`None`: built-in).
+    pub loaded_path: Option<PathBuf>,
 }
 
 impl SandboxState {
@@ -47,6 +51,8 @@ impl SandboxState {
             restart_requested: true,
             built_with: settings.clone(),
             error: None,
+            generation: 0,
+            loaded_path: settings.scenario.clone(),
         }
     }
 
@@ -129,13 +135,32 @@ pub fn restart_scene(world: &mut World) {
     if !world.resource::<SandboxState>().restart_requested {
         return;
     }
-    let settings = world.resource::<SandboxSettings>().clone();
+    world.resource_mut::<SandboxState>().restart_requested = false;
+    let mut settings = world.resource::<SandboxSettings>().clone();
+    if settings.scenario != world.resource::<SandboxState>().loaded_path {
+        // A newly picked scenario: read it, and take its own seed and
+        // shatter values.
+        match read_scenario(settings.scenario.as_deref()) {
+            Ok((scenario, name)) => {
+                settings.adopt_scenario(&scenario.settings());
+                world.insert_resource(settings.clone());
+                let mut state = world.resource_mut::<SandboxState>();
+                state.scenario = scenario;
+                state.scenario_name = name;
+                state.loaded_path = settings.scenario.clone();
+            }
+            Err(e) => {
+                warn!("{e}");
+                world.resource_mut::<SandboxState>().error = Some(e);
+                return;
+            }
+        }
+    }
     let result = {
         let state = world.resource::<SandboxState>();
         build_bodies(&state.scenario, &state.scenario_name, &settings)
     };
     let mut state = world.resource_mut::<SandboxState>();
-    state.restart_requested = false;
     let (bodies, physics) = match result {
         Ok(built) => built,
         Err(e) => {
@@ -158,7 +183,9 @@ pub fn restart_scene(world: &mut World) {
     world.spawn_batch(bodies.iter().map(BodyState::bundle)).for_each(drop);
     world.insert_resource(NextBodyId(next));
     world.insert_resource(physics);
-    world.resource_mut::<SandboxState>().first_fragment_id = next;
+    let mut state = world.resource_mut::<SandboxState>();
+    state.first_fragment_id = next;
+    state.generation += 1;
     world
         .resource_mut::<CollisionStats>()
         .clone_from(&CollisionStats::default());
@@ -310,6 +337,74 @@ mod tests {
             ..settings
         };
         assert_eq!(state.pending_restart(&changed), vec!["seed"]);
+    }
+
+    /// A world with what [`restart_scene`] touches, no renderer.
+    fn sandbox_world(settings: SandboxSettings) -> World {
+        let mut app = App::new();
+        app.add_plugins((MinimalPlugins, crate::systems::SimulationPlugins))
+            .insert_resource(crate::resources::Execution::new(settings.mode, 1).unwrap())
+            .insert_resource(Assets::<Mesh>::default())
+            .insert_resource(Assets::<StandardMaterial>::default())
+            .init_resource::<UpdateClock>();
+        let (scenario, name) = read_scenario(None).unwrap();
+        let state = SandboxState::new(scenario, name, &settings);
+        app.insert_resource(settings).insert_resource(state);
+        std::mem::take(app.world_mut())
+    }
+
+    fn body_count(world: &mut World) -> usize {
+        world.query::<&BodyId>().iter(world).len()
+    }
+
+    #[test]
+    fn restart_replaces_the_bodies_and_switches_scenarios() {
+        let settings = SandboxSettings {
+            body_count: Some(300),
+            ..SandboxSettings::default()
+        };
+        let mut world = sandbox_world(settings);
+        restart_scene(&mut world);
+        assert_eq!(body_count(&mut world), 302, "planet, moon and 300 debris");
+        let spheres = world.query::<&CelestialVisual>().iter(&world).len();
+        assert_eq!(spheres, 2, "planet and moon drawn as spheres");
+
+        // Pick another scenario and restart: the old bodies are gone, the
+        // scenario's own seed is taken.
+        let two_body = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron"));
+        {
+            let mut settings = world.resource_mut::<SandboxSettings>();
+            settings.scenario = Some(two_body.clone());
+            settings.body_count = None;
+            settings.seed = 12345;
+        }
+        world.resource_mut::<SandboxState>().restart_requested = true;
+        restart_scene(&mut world);
+        let state = world.resource::<SandboxState>();
+        assert!(state.error.is_none(), "{:?}", state.error);
+        assert_eq!(state.loaded_path.as_deref(), Some(two_body.as_path()));
+        assert_eq!(state.generation, 2);
+        assert_ne!(world.resource::<SandboxSettings>().seed, 12345);
+        assert_eq!(body_count(&mut world), 2);
+    }
+
+    #[test]
+    fn a_broken_scenario_pick_keeps_the_running_scene() {
+        let dir = tempfile::tempdir().unwrap();
+        let broken = dir.path().join("broken.ron");
+        std::fs::write(&broken, "Scenario(bodies: [Body(mass: -1.0)])").unwrap();
+        let settings = SandboxSettings {
+            body_count: Some(50),
+            ..SandboxSettings::default()
+        };
+        let mut world = sandbox_world(settings);
+        restart_scene(&mut world);
+        world.resource_mut::<SandboxSettings>().scenario = Some(broken);
+        world.resource_mut::<SandboxState>().restart_requested = true;
+        restart_scene(&mut world);
+        let error = world.resource::<SandboxState>().error.clone().expect("an error");
+        assert!(error.contains("broken.ron") && error.contains("mass"), "{error}");
+        assert_eq!(body_count(&mut world), 52, "the running scene stays");
     }
 
     #[test]
