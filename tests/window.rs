@@ -142,3 +142,17 @@ fn screenshot_never_overwrites() {
     );
     assert_eq!(std::fs::read_to_string(&shot).unwrap(), "precious");
 }
+
+#[test]
+fn without_a_display_the_window_says_so() {
+    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+        .args(["run", "--frames", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("DISPLAY") && stderr.contains("headless"), "{stderr}");
+}

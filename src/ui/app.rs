@@ -32,6 +32,7 @@ use super::settings::{MAX_BODY_COUNT, RenderMethod, SandboxSettings, SettingsFil
 /// Opens the window and runs until it is closed (or a scripted run ends).
 pub fn run(args: RunArgs) -> Result<(), Failure> {
     check_screenshot_path(&args)?;
+    check_display()?;
     if let Some(n) = args.bodies.filter(|&n| n > MAX_BODY_COUNT) {
         return Err(Failure::input(format!(
             "--bodies: {n} is more than the sandbox's {MAX_BODY_COUNT}"
@@ -155,6 +156,18 @@ fn check_screenshot_path(args: &RunArgs) -> Result<(), Failure> {
             "--screenshot {shown}: folder {} does not exist",
             dir.display()
         )));
+    }
+    Ok(())
+}
+
+/// The window is X11-only (the lean build leaves Wayland out): without a
+/// display, say so instead of letting the event loop panic.
+fn check_display() -> Result<(), Failure> {
+    if cfg!(target_os = "linux") && std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
+        return Err(Failure::input(
+            "no X11 display (DISPLAY is not set): run the window in a desktop session, \
+             under `xvfb-run kessler run`, or use `kessler headless`",
+        ));
     }
     Ok(())
 }
