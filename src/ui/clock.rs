@@ -55,20 +55,19 @@ impl UpdateClock {
 
     /// Achieved updates per second over about the last second.
     pub fn achieved_ups(&self) -> f64 {
-        let (time, ran) = self
-            .window
-            .iter()
-            .fold((0.0, 0u64), |(t, n), w| (t + w.0, n + u64::from(w.1)));
-        if time > 0.0 { ran as f64 / time } else { 0.0 }
+        self.per_second(|(_, ran, _)| ran)
     }
 
     /// Dropped updates per second over about the last second.
     pub fn dropped_per_second(&self) -> f64 {
-        let (time, dropped) = self
-            .window
-            .iter()
-            .fold((0.0, 0u64), |(t, n), w| (t + w.0, n + u64::from(w.2)));
-        if time > 0.0 { dropped as f64 / time } else { 0.0 }
+        self.per_second(|(_, _, dropped)| dropped)
+    }
+
+    /// A per-frame count summed over the window, per second.
+    fn per_second(&self, count: impl Fn((f64, u32, u32)) -> u32) -> f64 {
+        let time: f64 = self.window.iter().map(|w| w.0).sum();
+        let total: u64 = self.window.iter().map(|&w| u64::from(count(w))).sum();
+        if time > 0.0 { total as f64 / time } else { 0.0 }
     }
 
     /// Forgets the accumulator (pause, restart), keeping the totals.
