@@ -186,9 +186,7 @@ pub fn restart_scene(world: &mut World) {
     let mut state = world.resource_mut::<SandboxState>();
     state.first_fragment_id = next;
     state.generation += 1;
-    world
-        .resource_mut::<CollisionStats>()
-        .clone_from(&CollisionStats::default());
+    *world.resource_mut::<CollisionStats>() = CollisionStats::default();
     world.resource_mut::<OverlappingPairs>().0.clear();
     world.resource_mut::<StageTimings>().reset();
     world.resource_mut::<UpdateClock>().reset_owed();
