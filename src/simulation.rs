@@ -8,6 +8,15 @@ use crate::resources::{Execution, NextBodyId, SimulationSettings, StageTimings};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::systems::{CollisionStats, SimulationPlugins, run_updates};
 
+/// Spawns `bodies` (ids must be unique and unused) and sets the next fresh
+/// id past the highest; returns that id.
+pub fn spawn_bodies(world: &mut World, bodies: &[BodyState]) -> u64 {
+    world.spawn_batch(bodies.iter().map(BodyState::bundle)).for_each(drop);
+    let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
+    world.insert_resource(NextBodyId(next));
+    next
+}
+
 /// A headless simulation.
 pub struct Simulation {
     app: App,
@@ -22,10 +31,7 @@ impl Simulation {
             .insert_resource(execution);
         app.finish();
         app.cleanup();
-        let world = app.world_mut();
-        world.spawn_batch(bodies.iter().map(BodyState::bundle)).for_each(drop);
-        let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
-        world.insert_resource(NextBodyId(next));
+        spawn_bodies(app.world_mut(), bodies);
         Self { app }
     }
 

@@ -20,21 +20,10 @@ pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
 
 /// Checks, before any work, that `path` can be written as a dump.
 fn check_dump_path(path: &Path) -> Result<(), Failure> {
-    let parent = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
     if path.is_dir() {
         return Err(Failure::input(format!("--dump {}: is a directory", path.display())));
     }
-    if !parent.is_dir() {
-        return Err(Failure::input(format!(
-            "--dump {}: folder {} does not exist",
-            path.display(),
-            parent.display()
-        )));
-    }
-    Ok(())
+    super::check_output_folder("--dump", path)
 }
 
 pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {

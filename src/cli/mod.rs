@@ -80,6 +80,24 @@ fn dispatch(command: Option<Command>) -> Result<(), Failure> {
     }
 }
 
+/// Checks that the folder an output file `path` (given with `flag`) goes
+/// into exists.
+pub fn check_output_folder(flag: &str, path: &std::path::Path) -> Result<(), Failure> {
+    let folder = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    if folder.is_dir() {
+        Ok(())
+    } else {
+        Err(Failure::input(format!(
+            "{flag} {}: folder {} does not exist",
+            path.display(),
+            folder.display()
+        )))
+    }
+}
+
 /// Loads the scenario at `path`, or the built-in default; returns it with
 /// the name to use in messages.
 pub fn load_scenario(path: Option<&std::path::Path>) -> Result<(Scenario, String), Failure> {

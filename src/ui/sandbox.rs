@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts};
-use crate::resources::{NextBodyId, SimulationSettings, StageTimings};
+use crate::resources::{SimulationSettings, StageTimings};
 use crate::scenario::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, Scenario};
+use crate::simulation::spawn_bodies;
 use crate::systems::{CollisionStats, OverlappingPairs};
 
 use super::body_colors::is_celestial;
@@ -179,9 +180,7 @@ pub fn restart_scene(world: &mut World) {
     for entity in old {
         world.despawn(entity);
     }
-    let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
-    world.spawn_batch(bodies.iter().map(BodyState::bundle)).for_each(drop);
-    world.insert_resource(NextBodyId(next));
+    let next = spawn_bodies(world, &bodies);
     world.insert_resource(physics);
     let mut state = world.resource_mut::<SandboxState>();
     state.first_fragment_id = next;
