@@ -4,7 +4,7 @@
 use bevy::math::DVec3;
 use bevy::prelude::*;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use kessler::components::{Acceleration, BodyId, BodyState, GravityRole};
+use kessler::components::{BodyId, BodyState, GravityRole, Position, Velocity};
 use kessler::resources::{Execution, ExecutionMode, available_threads};
 use kessler::rng::Rng;
 use kessler::systems::{
@@ -41,20 +41,20 @@ fn gravity(c: &mut Criterion) {
     }];
     for count in COUNTS {
         let ids: Vec<BodyId> = (1..=count as u64).map(BodyId).collect();
-        let transforms: Vec<Transform> = centres(count).into_iter().map(Transform::from_translation).collect();
+        let positions: Vec<Position> = centres(count).into_iter().map(Position).collect();
         let roles = vec![GravityRole::Adopter; count];
-        let mut acc = vec![Acceleration::default(); count];
+        let mut velocities = vec![Velocity::default(); count];
         for mode in MODES {
             let exec = execution(mode);
             group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
                 b.iter(|| {
                     let columns = (
                         ids.as_slice(),
-                        transforms.as_slice(),
+                        positions.as_slice(),
                         roles.as_slice(),
-                        acc.as_mut_slice(),
+                        velocities.as_mut_slice(),
                     );
-                    exec.for_chunks(columns, 32_768, |cols| gravity_kernel(cols, &sources, 0.0));
+                    exec.for_chunks(columns, 32_768, |cols| gravity_kernel(cols, &sources, 0.0, 1.0));
                 })
             });
         }
@@ -71,7 +71,7 @@ fn sweep(c: &mut Criterion) {
             let exec = execution(mode);
             let mut scratch = SweepScratch::default();
             group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
-                b.iter(|| sweep_and_prune(&boxes, &exec, &mut scratch))
+                b.iter(|| sweep_and_prune(boxes.as_slice(), &exec, &mut scratch))
             });
         }
     }

@@ -3,7 +3,7 @@
 
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Velocity};
+use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, Velocity};
 use crate::resources::{Execution, NextBodyId, SimulationSettings, StageTimings};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::systems::{CollisionStats, SimulationPlugins, run_updates};
@@ -64,7 +64,7 @@ impl Simulation {
         let world = self.app.world_mut();
         let mut query = world.query::<(
             &BodyId,
-            &Transform,
+            &Position,
             &Velocity,
             &Mass,
             &HalfExtents,

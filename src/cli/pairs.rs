@@ -15,7 +15,7 @@ pub fn pairs(path: &Path, args: &ExecutionArgs) -> Result<(), Failure> {
     let bodies = scenario.bodies(&origin).map_err(Failure::input)?;
     let boxes: Vec<Aabb> = bodies.iter().map(|b| Aabb::new(b.position, b.half_extents)).collect();
     let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();
-    let found = sweep_and_prune(&boxes, &execution(args)?, &mut SweepScratch::default());
+    let found = sweep_and_prune(boxes.as_slice(), &execution(args)?, &mut SweepScratch::default());
     let mut out = BufWriter::new(std::io::stdout().lock());
     let written = (|| {
         writeln!(out, "a,b")?;

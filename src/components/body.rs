@@ -2,8 +2,10 @@
 //!
 //! Units are the scenario's own: lengths in "units", time in "steps" scaled by
 //! the scenario's `time_step`, mass in "mass units". A body's position is its
-//! [`Transform`](bevy::prelude::Transform)'s `translation`; rotation and scale
-//! are unused by the simulation.
+//! own [`Position`] component, not a Bevy `Transform`: `Transform` requires a
+//! `GlobalTransform` and a `TransformTreeChanged`, about 128 bytes per body
+//! with change ticks, where the simulation needs 12 (see ARCHITECTURE.md,
+//! "Memory").
 
 use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -14,13 +16,12 @@ use serde::{Deserialize, Serialize};
 pub struct BodyId(pub u64);
 
 /// Linear velocity in units per unit of time.
+/// Where the centre of the body's box is, in length units.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct Position(pub Vec3);
+
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct Velocity(pub Vec3);
-
-/// Gravitational acceleration of this update, in units per time², written by
-/// the gravity stage and consumed by integration. Zero for non-adopters.
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
-pub struct Acceleration(pub Vec3);
 
 /// Mass in mass units; always finite and > 0.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
@@ -82,10 +83,9 @@ pub struct Interacts(pub bool);
 #[derive(Bundle, Clone, Debug)]
 pub struct BodyBundle {
     pub id: BodyId,
-    pub transform: Transform,
+    pub position: Position,
     pub previous_position: PreviousPosition,
     pub velocity: Velocity,
-    pub acceleration: Acceleration,
     pub mass: Mass,
     pub half_extents: HalfExtents,
     pub role: GravityRole,
@@ -109,7 +109,7 @@ impl BodyState {
     /// A body's state from its components.
     pub fn from_components(
         id: &BodyId,
-        transform: &Transform,
+        position: &Position,
         velocity: &Velocity,
         mass: &Mass,
         half_extents: &HalfExtents,
@@ -118,7 +118,7 @@ impl BodyState {
     ) -> Self {
         Self {
             id: *id,
-            position: transform.translation,
+            position: position.0,
             velocity: velocity.0,
             mass: mass.0,
             half_extents: half_extents.0,
@@ -131,10 +131,9 @@ impl BodyState {
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {
             id: self.id,
-            transform: Transform::from_translation(self.position),
+            position: Position(self.position),
             previous_position: PreviousPosition(self.position),
             velocity: Velocity(self.velocity),
-            acceleration: Acceleration::default(),
             mass: Mass(self.mass),
             half_extents: HalfExtents(self.half_extents),
             role: self.role,

@@ -1,27 +1,23 @@
 //! Stage 2: semi-implicit Euler integration (DESIGN §2.2).
 //!
-//! Adopters first take `v += a·dt`, then every body moves `p += v·dt`; the
-//! position before the move is kept for the collision response.
+//! Adopters have already taken their kick `v += a·dt` in the gravity stage
+//! (so no acceleration is stored); here every body moves `p += v·dt`, the
+//! new velocity moving it, and the position before the move is kept for the
+//! collision response.
 
 use std::time::Instant;
 
 use bevy::prelude::*;
 
-use crate::components::{Acceleration, GravityRole, PreviousPosition, Velocity};
+use crate::components::{Position, PreviousPosition, Velocity};
 use crate::resources::{Execution, SimulationSettings, StageTimings};
 use crate::systems::{SimulationSystems, SimulationUpdate};
 
 /// The columns the integration kernel reads and writes.
-pub type IntegrateColumns<'a> = (
-    &'a [GravityRole],
-    &'a [Acceleration],
-    &'a mut [Velocity],
-    &'a mut [Transform],
-    &'a mut [PreviousPosition],
-);
+pub type IntegrateColumns<'a> = (&'a [Velocity], &'a mut [Position], &'a mut [PreviousPosition]);
 
 /// Bodies per parallel chunk.
-const GRAIN: usize = 32_768;
+const GRAIN: usize = 8_192;
 
 /// Moves every body in [`SimulationSystems::Integrate`].
 pub struct IntegratePlugin;
@@ -32,25 +28,13 @@ impl Plugin for IntegratePlugin {
     }
 }
 
-/// Kernel: one semi-implicit Euler step for the bodies in the columns.
-/// `kick` says whether accelerations apply (gravity on).
-pub fn integrate_kernel(
-    (roles, accelerations, velocities, transforms, previous): IntegrateColumns<'_>,
-    dt: f32,
-    kick: bool,
-) {
-    let columns = roles
-        .iter()
-        .zip(accelerations)
-        .zip(velocities)
-        .zip(transforms)
-        .zip(previous);
-    for ((((role, a), v), t), prev) in columns {
-        if kick && role.is_adopter() {
-            v.0 += a.0 * dt;
-        }
-        prev.0 = t.translation;
-        t.translation += v.0 * dt;
+/// Kernel: the drift of the semi-implicit Euler step for the bodies in the
+/// columns, with the velocities the gravity stage's kick left: the position
+/// is kept as the previous one, then moves by `v·dt`.
+pub fn integrate_kernel((velocities, positions, previous): IntegrateColumns<'_>, dt: f32) {
+    for ((v, p), prev) in velocities.iter().zip(positions).zip(previous) {
+        prev.0 = p.0;
+        p.0 += v.0 * dt;
     }
 }
 
@@ -58,26 +42,18 @@ fn integrate(
     settings: Res<SimulationSettings>,
     execution: Res<Execution>,
     mut timings: ResMut<StageTimings>,
-    mut bodies: Query<(
-        &GravityRole,
-        &Acceleration,
-        &mut Velocity,
-        &mut Transform,
-        &mut PreviousPosition,
-    )>,
+    mut bodies: Query<(&Velocity, &mut Position, &mut PreviousPosition)>,
 ) {
     let start = Instant::now();
-    let (dt, kick) = (settings.time_step, settings.gravity);
+    let dt = settings.time_step;
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
-    for (roles, accelerations, mut velocities, mut transforms, mut previous) in tables {
+    for (velocities, mut positions, mut previous) in tables {
         let columns = (
-            roles,
-            accelerations,
-            velocities.bypass_change_detection(),
-            transforms.bypass_change_detection(),
+            velocities,
+            positions.bypass_change_detection(),
             previous.bypass_change_detection(),
         );
-        execution.for_chunks(columns, GRAIN, |columns| integrate_kernel(columns, dt, kick));
+        execution.for_chunks(columns, GRAIN, |columns| integrate_kernel(columns, dt));
     }
     timings.record(SimulationSystems::Integrate, start.elapsed());
 }
@@ -86,37 +62,18 @@ fn integrate(
 mod tests {
     use super::*;
 
-    fn step(role: GravityRole, kick: bool) -> (Vec3, Vec3, Vec3) {
-        let mut v = [Velocity(Vec3::new(1.0, 0.0, 0.0))];
-        let mut t = [Transform::from_xyz(10.0, 0.0, 0.0)];
-        let mut prev = [PreviousPosition::default()];
-        let a = [Acceleration(Vec3::new(0.0, 2.0, 0.0))];
-        integrate_kernel((&[role], &a, &mut v, &mut t, &mut prev), 0.5, kick);
-        (v[0].0, t[0].translation, prev[0].0)
-    }
-
     #[test]
-    fn adopters_kick_then_drift() {
-        let (v, p, prev) = step(GravityRole::Adopter, true);
-        assert_eq!(v, Vec3::new(1.0, 1.0, 0.0));
-        // Semi-implicit: the new velocity moves the body.
-        assert_eq!(p, Vec3::new(10.5, 0.5, 0.0));
-        assert_eq!(prev, Vec3::new(10.0, 0.0, 0.0));
-    }
-
-    #[test]
-    fn non_adopters_and_gravity_off_only_drift() {
-        for (role, kick) in [
-            (GravityRole::Inert, true),
-            (GravityRole::Source, true),
-            (GravityRole::Adopter, false),
-        ] {
-            let (v, p, _) = step(role, kick);
-            assert_eq!(
-                (v, p),
-                (Vec3::new(1.0, 0.0, 0.0), Vec3::new(10.5, 0.0, 0.0)),
-                "{role:?} {kick}"
-            );
-        }
+    fn every_body_drifts_with_its_velocity_and_keeps_its_previous_position() {
+        let v = [Velocity(Vec3::new(1.0, -2.0, 0.0)), Velocity(Vec3::ZERO)];
+        let mut p = [Position(Vec3::new(10.0, 0.0, 0.0)), Position(Vec3::new(3.0, 4.0, 5.0))];
+        let mut prev = [PreviousPosition::default(); 2];
+        integrate_kernel((&v, &mut p, &mut prev), 0.5);
+        assert_eq!(p[0].0, Vec3::new(10.5, -1.0, 0.0));
+        assert_eq!(prev[0].0, Vec3::new(10.0, 0.0, 0.0));
+        // A body at rest (a planet) stays put.
+        assert_eq!(
+            (p[1].0, prev[1].0),
+            (Vec3::new(3.0, 4.0, 5.0), Vec3::new(3.0, 4.0, 5.0))
+        );
     }
 }

@@ -13,7 +13,9 @@ use std::time::Instant;
 use bevy::math::DVec3;
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, PreviousPosition, Velocity};
+use crate::components::{
+    BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Velocity,
+};
 use crate::resources::{Execution, SimulationSettings, StageTimings};
 use crate::systems::{OverlappingPairs, SimulationSystems, SimulationUpdate};
 
@@ -214,7 +216,7 @@ type ContactQuery<'w, 's> = Query<
     's,
     (
         &'static BodyId,
-        &'static mut Transform,
+        &'static mut Position,
         &'static PreviousPosition,
         &'static mut Velocity,
         &'static Mass,
@@ -227,7 +229,7 @@ type ContactQuery<'w, 's> = Query<
 fn body_state(query: &ContactQuery, entity: Entity) -> Option<(ContactBody, BodyState)> {
     let (id, t, prev, v, m, h, role, i) = query.get(entity).ok()?;
     let contact = ContactBody {
-        position: t.translation,
+        position: t.0,
         previous: prev.0,
         velocity: v.0,
         mass: m.0,
@@ -314,7 +316,7 @@ fn respond_to_pairs(
         responses += 1;
         for (entity, motion) in [(*ea, ma), (*eb, mb)] {
             if let (Some(m), Ok((_, mut t, _, mut v, ..))) = (motion, bodies.get_mut(entity)) {
-                t.translation = m.position;
+                t.0 = m.position;
                 v.0 = m.velocity;
             }
         }

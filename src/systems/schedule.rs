@@ -16,9 +16,10 @@ pub struct SimulationUpdate;
 /// The stages of one update (DESIGN §2), in the order they run.
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SimulationSystems {
-    /// Accelerations of adopters from all sources.
+    /// Accelerations of adopters from all sources, applied as the velocity
+    /// kick `v += a·dt` of the semi-implicit Euler step.
     Gravity,
-    /// Semi-implicit Euler: velocities, then positions.
+    /// The drift `p += v·dt` of the semi-implicit Euler step.
     Integrate,
     /// Sweep and prune: the overlapping pairs.
     BroadPhase,

@@ -10,7 +10,7 @@ use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
 use bevy_panorbit_camera::{PanOrbitCamera, PanOrbitCameraPlugin};
 
 use crate::cli::{Failure, RenderArg, RunArgs};
-use crate::components::BodyId;
+use crate::components::{BodyId, Position};
 use crate::resources::Execution;
 use crate::systems::SimulationPlugins;
 
@@ -180,7 +180,7 @@ fn setup_view(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>) {
 /// Once, after the first scene is built: backs the orbit camera off far
 /// enough to see most bodies.
 fn frame_scene(
-    bodies: Query<&Transform, With<BodyId>>,
+    bodies: Query<&Position, With<BodyId>>,
     mut camera: Single<&mut PanOrbitCamera, With<MainCamera>>,
     mut framed: Local<bool>,
 ) {
@@ -188,7 +188,7 @@ fn frame_scene(
         return;
     }
     *framed = true;
-    let mut radii: Vec<f32> = bodies.iter().step_by(97).map(|t| t.translation.length()).collect();
+    let mut radii: Vec<f32> = bodies.iter().step_by(97).map(|t| t.0.length()).collect();
     if radii.is_empty() {
         return;
     }

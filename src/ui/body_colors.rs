@@ -3,7 +3,7 @@
 
 use bevy::prelude::*;
 
-use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Velocity};
+use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position, Velocity};
 use crate::systems::OverlappingPairs;
 
 use super::clock::UpdateClock;
@@ -74,7 +74,7 @@ type CubeQuery<'w, 's> = Query<
     (
         Entity,
         &'static BodyId,
-        &'static Transform,
+        &'static Position,
         &'static HalfExtents,
         &'static Velocity,
         &'static GravityRole,
@@ -136,7 +136,7 @@ pub fn gather_instances(
                         colliding: colliding.get(entity.index_u32() as usize).copied().unwrap_or(false),
                     };
                     InstanceData {
-                        center: transform.translation.to_array(),
+                        center: transform.0.to_array(),
                         half_extents: half.0.to_array(),
                         color: body_color(look, settings.visual_effects),
                     }

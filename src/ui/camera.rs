@@ -8,6 +8,8 @@ use bevy::render::view::NoIndirectDrawing;
 use bevy_egui::input::EguiWantsInput;
 use bevy_panorbit_camera::PanOrbitCamera;
 
+use crate::components::Position;
+
 use super::selection::Selection;
 use super::settings::{CameraMode, SandboxSettings};
 
@@ -59,7 +61,7 @@ pub fn camera_key(keys: Res<ButtonInput<KeyCode>>, egui: Res<EguiWantsInput>, mu
 pub fn orbit_and_follow(
     settings: Res<SandboxSettings>,
     selection: Res<Selection>,
-    bodies: Query<&Transform, Without<MainCamera>>,
+    bodies: Query<&Position>,
     mut camera: Single<&mut PanOrbitCamera, With<MainCamera>>,
 ) {
     let enabled = settings.camera != CameraMode::Fly;
@@ -71,8 +73,8 @@ pub fn orbit_and_follow(
     if settings.camera == CameraMode::Follow
         && let Some(target) = selection.entity.and_then(|e| bodies.get(e).ok())
     {
-        camera.target_focus = target.translation;
-        camera.focus = target.translation;
+        camera.target_focus = target.0;
+        camera.focus = target.0;
         camera.force_update = true;
     }
 }

@@ -5,7 +5,7 @@
 
 use bevy::prelude::*;
 
-use crate::components::{BodyId, GravityRole, HalfExtents, Interacts};
+use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position};
 
 use super::body_colors::{PLAIN, is_celestial};
 use super::settings::{RenderMethod, SandboxSettings};
@@ -71,11 +71,11 @@ pub fn sync_body_meshes(
     }
 }
 
-/// The renderer reads `GlobalTransform`; the stages move `Transform`
-/// without change detection, so the meshes method copies it over (sized by
+/// The renderer reads `GlobalTransform` (which `Mesh3d` brings along); the
+/// stages move [`Position`], so the meshes method copies it over (sized by
 /// the half extents) every frame.
-pub fn place_body_meshes(mut bodies: Query<(&Transform, &HalfExtents, &mut GlobalTransform), With<MeshedBody>>) {
-    bodies.par_iter_mut().for_each(|(transform, half, mut global)| {
-        *global = GlobalTransform::from(Transform::from_translation(transform.translation).with_scale(half.0 * 2.0));
+pub fn place_body_meshes(mut bodies: Query<(&Position, &HalfExtents, &mut GlobalTransform), With<MeshedBody>>) {
+    bodies.par_iter_mut().for_each(|(position, half, mut global)| {
+        *global = GlobalTransform::from(Transform::from_translation(position.0).with_scale(half.0 * 2.0));
     });
 }

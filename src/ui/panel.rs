@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
 
-use crate::components::{BodyId, GravityRole, Mass, Velocity};
+use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::resources::{ExecutionMode, available_threads};
 use crate::rng::Rng;
 
@@ -27,7 +27,7 @@ pub fn panel(
     mut settings: ResMut<SandboxSettings>,
     mut state: ResMut<SandboxState>,
     mut selection: ResMut<Selection>,
-    bodies: Query<(&BodyId, &Mass, &Velocity, &Transform, &GravityRole)>,
+    bodies: Query<(&BodyId, &Mass, &Velocity, &Position, &GravityRole)>,
     keys: Res<ButtonInput<KeyCode>>,
     mut path_field: Local<PathField>,
     mut files: Local<Option<Vec<PathBuf>>>,
@@ -214,7 +214,7 @@ fn camera(
     ui: &mut egui::Ui,
     settings: &mut SandboxSettings,
     selection: &mut Selection,
-    bodies: &Query<(&BodyId, &Mass, &Velocity, &Transform, &GravityRole)>,
+    bodies: &Query<(&BodyId, &Mass, &Velocity, &Position, &GravityRole)>,
 ) {
     ui.label("Camera (C cycles)");
     ui.horizontal(|ui| {

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts};
+use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Position};
 use crate::resources::{SimulationSettings, StageTimings};
 use crate::scenario::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, Scenario};
 use crate::simulation::spawn_bodies;
@@ -197,7 +197,7 @@ fn spawn_celestial_visuals(world: &mut World) {
     let celestials: Vec<(Entity, Vec3, Vec3, f32)> = world
         .query::<(
             Entity,
-            &Transform,
+            &Position,
             &HalfExtents,
             &GravityRole,
             &Interacts,
@@ -205,7 +205,7 @@ fn spawn_celestial_visuals(world: &mut World) {
         )>()
         .iter(world)
         .filter(|(_, _, _, role, interacts, _)| is_celestial(**role, **interacts))
-        .map(|(e, t, h, _, _, m)| (e, t.translation, h.0, m.0))
+        .map(|(e, p, h, _, _, m)| (e, p.0, h.0, m.0))
         .collect();
     let heaviest = celestials.iter().map(|c| c.3).fold(0.0f32, f32::max);
     let sphere = world
@@ -253,14 +253,14 @@ fn spawn_celestial_visuals(world: &mut World) {
 /// Moves the spheres with their bodies and shows or hides collision boxes.
 pub fn follow_celestials(
     mut visuals: Query<(Entity, &CelestialVisual, &mut Transform)>,
-    bodies: Query<&Transform, (With<BodyId>, Without<CelestialVisual>)>,
+    bodies: Query<&Position, With<BodyId>>,
     mut boxes: Query<&mut Visibility, With<CollisionBoxVisual>>,
     settings: Res<SandboxSettings>,
     mut commands: Commands,
 ) {
     for (entity, visual, mut transform) in &mut visuals {
         match bodies.get(visual.body) {
-            Ok(body) => transform.translation = body.translation,
+            Ok(body) => transform.translation = body.0,
             Err(_) => commands.entity(entity).despawn(),
         }
     }

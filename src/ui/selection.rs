@@ -4,7 +4,7 @@
 use bevy::prelude::*;
 use bevy_egui::input::EguiWantsInput;
 
-use crate::components::{BodyId, GravityRole, HalfExtents, Mass, Velocity};
+use crate::components::{BodyId, GravityRole, HalfExtents, Mass, Position, Velocity};
 
 use super::camera::MainCamera;
 
@@ -44,7 +44,7 @@ pub fn select_on_click(
     window: Single<&Window>,
     camera: Single<(&Camera, &GlobalTransform), With<MainCamera>>,
     egui: Res<EguiWantsInput>,
-    bodies: Query<(Entity, &Transform, &HalfExtents)>,
+    bodies: Query<(Entity, &Position, &HalfExtents)>,
     mut pressed_at: Local<Option<Vec2>>,
     mut selection: ResMut<Selection>,
 ) {
@@ -65,7 +65,7 @@ pub fn select_on_click(
     let Ok(ray) = camera.viewport_to_world(camera_transform, end) else {
         return;
     };
-    let candidates: Vec<(Entity, Vec3, Vec3)> = bodies.iter().map(|(e, t, h)| (e, t.translation, h.0)).collect();
+    let candidates: Vec<(Entity, Vec3, Vec3)> = bodies.iter().map(|(e, t, h)| (e, t.0, h.0)).collect();
     let hit = nearest_hit(ray.origin, *ray.direction, candidates.iter().map(|&(_, c, h)| (c, h)));
     selection.entity = hit.map(|(i, _)| candidates[i].0);
 }
@@ -84,7 +84,7 @@ pub struct SelectedInfo {
 /// no longer exists, e.g. because it shattered.
 pub fn selected_info(
     selection: &mut Selection,
-    bodies: &Query<(&BodyId, &Mass, &Velocity, &Transform, &GravityRole)>,
+    bodies: &Query<(&BodyId, &Mass, &Velocity, &Position, &GravityRole)>,
 ) -> Option<SelectedInfo> {
     let entity = selection.entity?;
     match bodies.get(entity) {
@@ -92,7 +92,7 @@ pub fn selected_info(
             id: *id,
             mass: mass.0,
             speed: velocity.0.length(),
-            position: transform.translation,
+            position: transform.0,
             role: *role,
         }),
         Err(_) => {
