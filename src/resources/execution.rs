@@ -13,6 +13,8 @@ use std::ops::Range;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use super::KeepWarm;
+
 use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -55,6 +57,8 @@ pub struct Execution {
     fine_grained: bool,
     /// Set whenever work was split since the last [`install`](Self::install).
     split_recently: Arc<AtomicBool>,
+    /// Keeps the pool's other workers awake between the steps of an update.
+    warm: Arc<KeepWarm>,
 }
 
 impl fmt::Debug for Execution {
@@ -86,6 +90,7 @@ impl Execution {
             pool: Arc::new(build_pool(threads)?),
             fine_grained: false,
             split_recently: Arc::new(AtomicBool::new(true)),
+            warm: Arc::default(),
         })
     }
 
@@ -119,6 +124,7 @@ impl Execution {
     pub fn set_threads(&mut self, threads: usize) -> Result<(), ExecutionError> {
         if threads != self.threads() {
             self.pool = Arc::new(build_pool(threads)?);
+            self.warm = Arc::default();
         }
         Ok(())
     }
@@ -165,6 +171,7 @@ impl Execution {
         let chunk = grain.max(len.div_ceil(self.threads() * 4));
         let mut out = Vec::with_capacity(len.div_ceil(chunk));
         self.pool.install(|| split_recursive(data, chunk, &kernel, &mut out));
+        self.warm.after_step(&self.pool);
         out
     }
 }

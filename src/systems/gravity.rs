@@ -82,22 +82,28 @@ pub fn gravity_kernel(
     }
 }
 
-/// The sources among `bodies`, sorted by id so the sum order is fixed.
+/// One table's columns that [`collect_sources`] reads.
+pub type SourceColumns<'a> = (&'a [BodyId], &'a [Position], &'a [Mass], &'a [GravityRole]);
+
+/// The sources among the bodies in `tables`, sorted by id so the sum order
+/// is fixed. Only the role column is read for every body (sources are few).
 pub fn collect_sources<'a>(
-    bodies: impl Iterator<Item = (&'a BodyId, &'a Position, &'a Mass, &'a GravityRole)>,
+    tables: impl Iterator<Item = SourceColumns<'a>>,
     gravitational_constant: f64,
     out: &mut Vec<GravitySource>,
 ) {
     out.clear();
-    out.extend(
-        bodies
-            .filter(|(.., role)| role.is_source())
-            .map(|(id, t, m, _)| GravitySource {
-                id: *id,
-                position: t.0.as_dvec3(),
-                gm: gravitational_constant * f64::from(m.0),
-            }),
-    );
+    for (ids, positions, masses, roles) in tables {
+        for (row, role) in roles.iter().enumerate() {
+            if role.is_source() {
+                out.push(GravitySource {
+                    id: ids[row],
+                    position: positions[row].0.as_dvec3(),
+                    gm: gravitational_constant * f64::from(masses[row].0),
+                });
+            }
+        }
+    }
     out.sort_unstable_by_key(|s| s.id);
 }
 
@@ -110,7 +116,8 @@ fn apply_gravity(
     mut bodies: Query<(&BodyId, &Position, &GravityRole, &mut Velocity)>,
 ) {
     let start = Instant::now();
-    collect_sources(all.iter(), f64::from(settings.gravitational_constant), &mut sources);
+    let all = all.contiguous_iter().expect("body components are table-stored");
+    collect_sources(all, f64::from(settings.gravitational_constant), &mut sources);
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
     let grain = (GRAIN_WORK / sources.len().max(1)).max(64);
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
