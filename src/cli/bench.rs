@@ -102,19 +102,33 @@ pub fn bench(config_path: &Path, out: &Path) -> Result<(), Failure> {
             run.bodies,
             run.mode
         ));
+        bench::reset_peak_memory();
         let result = bench::measure(i + 1, scenario, &origin, run, |done| {
             progress.set_position(finished + 1 + done)
         })
         .map_err(|e| Failure::input(format!("{}: runs[{i}]: {e}", config_path.display())))?;
         finished += run.updates + 1;
-        progress.println(format!(
-            "run {:>3}: {:>8} bodies, {:>10} on {:>2} thread(s): {:>12.3} ms/update",
+        let memory = bench::peak_memory().map_or(String::new(), |peak| {
+            format!(
+                ", peak memory {:.0} MiB ({:.0} B/body)",
+                peak as f64 / f64::from(1 << 20),
+                peak as f64 / result.bodies_start.max(1) as f64
+            )
+        });
+        let line = format!(
+            "run {:>3}: {:>8} bodies, {:>10} on {:>2} thread(s): {:>12.3} ms/update{memory}",
             result.run,
             result.bodies_start,
             result.mode.name(),
             result.threads,
             result.update_ns / 1e6
-        ));
+        );
+        // A hidden bar (stderr not a terminal) drops its lines: print them.
+        if progress.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            progress.println(line);
+        }
         results.push(result);
     }
     progress.finish_and_clear();
