@@ -79,21 +79,13 @@ pub struct Pair {
 #[derive(Resource, Clone, Debug, Default)]
 pub struct OverlappingPairs(pub Vec<Pair>);
 
-/// Where the sweep reads its boxes: a plain slice, or the bodies' table
-/// columns in place (so a million bodies need no copy of their boxes).
+/// Where the sweep reads its boxes, in order: a plain slice, or the bodies'
+/// table columns in place (so a million bodies need no copy of their boxes).
 pub trait BoxSource: Sync {
     fn len(&self) -> usize;
 
-    /// The box with this index, `0 <= index < len()`.
-    fn aabb(&self, index: usize) -> Aabb;
-
     /// Calls `f` with the index and box of every box in `range`, in order.
-    #[inline]
-    fn for_each_in(&self, range: Range<usize>, mut f: impl FnMut(usize, Aabb)) {
-        for i in range {
-            f(i, self.aabb(i));
-        }
-    }
+    fn for_each_in(&self, range: Range<usize>, f: impl FnMut(usize, Aabb));
 
     fn is_empty(&self) -> bool {
         self.len() == 0
@@ -106,8 +98,11 @@ impl BoxSource for [Aabb] {
     }
 
     #[inline]
-    fn aabb(&self, index: usize) -> Aabb {
-        self[index]
+    fn for_each_in(&self, range: Range<usize>, mut f: impl FnMut(usize, Aabb)) {
+        let first = range.start;
+        for (k, &aabb) in self[range].iter().enumerate() {
+            f(first + k, aabb);
+        }
     }
 }
 
@@ -361,20 +356,13 @@ pub fn sweep_and_prune<B: BoxSource + ?Sized>(
     pairs.concat()
 }
 
-/// An index pair reordered so that the lower id comes first.
-#[inline]
-pub fn by_id((i, j): (u32, u32), id: impl Fn(usize) -> BodyId) -> (usize, usize) {
-    let (i, j) = (i as usize, j as usize);
-    if id(i) < id(j) { (i, j) } else { (j, i) }
-}
-
 /// Index pairs as id pairs `(lower, higher)`, sorted.
 pub fn id_pairs(index_pairs: &[(u32, u32)], ids: &[BodyId]) -> Vec<(BodyId, BodyId)> {
     let mut pairs: Vec<(BodyId, BodyId)> = index_pairs
         .iter()
-        .map(|&p| {
-            let (i, j) = by_id(p, |k| ids[k]);
-            (ids[i], ids[j])
+        .map(|&(i, j)| {
+            let (a, b) = (ids[i as usize], ids[j as usize]);
+            (a.min(b), a.max(b))
         })
         .collect();
     pairs.sort_unstable();
@@ -419,22 +407,15 @@ impl<'a> BodyColumns<'a> {
         (table, index - self.starts[table])
     }
 
-    fn body(&self, index: usize) -> (Entity, BodyId) {
+    fn body(&self, index: usize) -> (BodyId, Entity) {
         let (t, row) = self.locate(index);
-        (self.tables[t].0[row], self.tables[t].1[row])
+        (self.tables[t].1[row], self.tables[t].0[row])
     }
 }
 
 impl BoxSource for BodyColumns<'_> {
     fn len(&self) -> usize {
         self.len
-    }
-
-    #[inline]
-    fn aabb(&self, index: usize) -> Aabb {
-        let (t, row) = self.locate(index);
-        let (_, _, positions, halves) = self.tables[t];
-        Aabb::new(positions[row].0, halves[row].0)
     }
 
     /// Walks the columns table by table, without locating every index.
@@ -465,9 +446,13 @@ fn broad_phase(
     let columns = BodyColumns::new(bodies.contiguous_iter().expect("body components are table-stored"));
     let index_pairs = sweep_and_prune(&columns, &execution, &mut scratch);
     pairs.0.clear();
-    pairs.0.extend(index_pairs.iter().map(|&p| {
-        let (i, j) = by_id(p, |k| columns.body(k).1);
-        let ((entity_a, a), (entity_b, b)) = (columns.body(i), columns.body(j));
+    pairs.0.extend(index_pairs.iter().map(|&(i, j)| {
+        let (first, second) = (columns.body(i as usize), columns.body(j as usize));
+        let ((a, entity_a), (b, entity_b)) = if first < second {
+            (first, second)
+        } else {
+            (second, first)
+        };
         Pair {
             a,
             b,
