@@ -10,8 +10,8 @@
 
 use std::fmt;
 use std::ops::Range;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
 
 use super::KeepWarm;
 
@@ -167,35 +167,114 @@ impl Execution {
             return vec![kernel(data)];
         }
         self.split_recently.store(true, Ordering::Relaxed);
-        // A few chunks per thread lets work stealing even out uneven chunks.
-        let chunk = grain.max(len.div_ceil(self.threads() * 4));
-        let mut out = Vec::with_capacity(len.div_ceil(chunk));
-        self.pool.install(|| split_recursive(data, chunk, &kernel, &mut out));
+        // A few chunks per thread, claimed in turn, even out uneven chunks.
+        let chunk = grain.max(len.div_ceil(self.threads() * CHUNKS_PER_THREAD));
+        let claims = Claims::new(data, chunk);
+        self.pool.install(|| claims.run(&kernel));
         self.warm.after_step(&self.pool);
-        out
+        claims.into_results()
     }
 }
 
-fn split_recursive<S, R, K>(data: S, chunk: usize, kernel: &K, out: &mut Vec<R>)
-where
-    S: Split,
-    R: Send,
-    K: Fn(S) -> R + Sync,
-{
-    let len = data.len();
-    if len <= chunk {
-        out.push(kernel(data));
-        return;
+/// Chunks per worker thread of a parallel step.
+const CHUNKS_PER_THREAD: usize = 4;
+
+/// The chunks of one parallel step: each is claimed by the next free thread
+/// and its result stored in its slot, so the results keep input order
+/// whichever thread ran which chunk.
+struct Claims<S, R> {
+    /// Each chunk's data until claimed, then its result.
+    slots: Vec<Mutex<(Option<S>, Option<R>)>>,
+    /// The next chunk to claim.
+    next: AtomicUsize,
+    /// Chunks finished (or panicked).
+    finished: AtomicUsize,
+}
+
+impl<S: Split, R: Send> Claims<S, R> {
+    /// `data` cut into contiguous chunks of `chunk` items (the last may be
+    /// shorter).
+    fn new(mut data: S, chunk: usize) -> Self {
+        let mut slots = Vec::with_capacity(data.len().div_ceil(chunk));
+        while data.len() > chunk {
+            let (head, tail) = data.split_at(chunk);
+            slots.push(Mutex::new((Some(head), None)));
+            data = tail;
+        }
+        slots.push(Mutex::new((Some(data), None)));
+        Self {
+            slots,
+            next: AtomicUsize::new(0),
+            finished: AtomicUsize::new(0),
+        }
     }
-    // Split on a chunk boundary so chunk sizes do not depend on recursion depth.
-    let mid = (len / 2).div_ceil(chunk) * chunk;
-    let (left, right) = data.split_at(mid);
-    let mut right_out = Vec::new();
-    rayon::join(
-        || split_recursive(left, chunk, kernel, out),
-        || split_recursive(right, chunk, kernel, &mut right_out),
-    );
-    out.append(&mut right_out);
+
+    /// Runs every chunk on this worker and as many other workers as there
+    /// are chunks to share, and returns once all chunks are done. The
+    /// calling thread waits for the last chunks of the others spinning, not
+    /// asleep: on a virtual machine, waking a sleeping thread costs tens of
+    /// microseconds, more than the wait it ends.
+    fn run<K: Fn(S) -> R + Sync>(&self, kernel: &K) {
+        let helpers = rayon::current_num_threads().min(self.slots.len()) - 1;
+        rayon::scope(|scope| {
+            for _ in 0..helpers {
+                scope.spawn(|_| self.claim_all(kernel));
+            }
+            self.claim_all(kernel);
+            let mut spins = 0u32;
+            while self.finished.load(Ordering::Acquire) < self.slots.len() {
+                spins += 1;
+                if spins < SPINS_BEFORE_YIELD {
+                    std::hint::spin_loop();
+                } else {
+                    std::thread::yield_now();
+                }
+            }
+        });
+    }
+
+    /// Claims and runs chunks until none is left.
+    fn claim_all<K: Fn(S) -> R + Sync>(&self, kernel: &K) {
+        loop {
+            let index = self.next.fetch_add(1, Ordering::Relaxed);
+            let Some(slot) = self.slots.get(index) else {
+                return;
+            };
+            // Counts the chunk as finished even if the kernel panics, so the
+            // waiting thread stops waiting and the scope passes the panic on.
+            let _finish = Finish(&self.finished);
+            let data = lock(slot).0.take().expect("each chunk is claimed once");
+            let result = kernel(data);
+            lock(slot).1 = Some(result);
+        }
+    }
+
+    fn into_results(self) -> Vec<R> {
+        self.slots
+            .into_iter()
+            .map(|slot| {
+                let (_, result) = slot.into_inner().unwrap_or_else(PoisonError::into_inner);
+                result.expect("every chunk ran")
+            })
+            .collect()
+    }
+}
+
+/// Spins of a thread waiting for other threads' chunks before it starts
+/// yielding its core (each spin is a few nanoseconds).
+const SPINS_BEFORE_YIELD: u32 = 100_000;
+
+/// Adds one to the finished count when dropped.
+struct Finish<'a>(&'a AtomicUsize);
+
+impl Drop for Finish<'_> {
+    fn drop(&mut self) {
+        self.0.fetch_add(1, Ordering::Release);
+    }
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 fn build_pool(threads: usize) -> Result<rayon::ThreadPool, ExecutionError> {
@@ -309,6 +388,36 @@ mod tests {
             }
         });
         assert!(b.iter().enumerate().all(|(i, &y)| y == 2 * i as u32));
+    }
+
+    #[test]
+    fn uneven_chunks_keep_input_order() {
+        let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        // Eight chunks of 8 (four per thread); early chunks are slow, so the
+        // other thread claims the later ones.
+        let chunks = exec.map_chunks(0..64, 8, |r: Range<usize>| {
+            std::thread::sleep(std::time::Duration::from_micros(300 * (8 - r.start as u64 / 8)));
+            r.start
+        });
+        assert_eq!(chunks, (0..64).step_by(8).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn a_panicking_chunk_panics_the_step_instead_of_hanging_it() {
+        let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        for bad in [0, 7] {
+            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                exec.for_chunks(0..800, 100, |r: Range<usize>| {
+                    assert!(r.start / 100 != bad, "chunk {bad}")
+                })
+            }));
+            assert!(outcome.is_err(), "chunk {bad}'s panic was lost");
+        }
+        // The pool still works afterwards.
+        assert_eq!(
+            exec.map_chunks(0..400, 100, |r: Range<usize>| r.end - r.start),
+            vec![100; 4]
+        );
     }
 
     #[test]

@@ -119,6 +119,8 @@ struct CellBox {
 struct FiledChunk {
     starts: Vec<u32>,
     cursor: Vec<u32>,
+    /// The one cell of each box in the chunk, or [`SEVERAL_CELLS`].
+    cells: Vec<u32>,
     boxes: Vec<CellBox>,
 }
 
@@ -267,12 +269,24 @@ fn file_by_cell<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>, grid: &Gr
     let FiledChunk {
         starts,
         cursor,
+        cells,
         boxes: filed,
     } = &mut out;
     starts.clear();
     starts.resize(grid.cell_count() + 1, 0);
+    // The count pass notes each box's cell, so that the place pass need
+    // not work it out again; a box covering several cells is noted as
+    // `SEVERAL_CELLS` and its cells are worked out again.
+    cells.clear();
     boxes.for_each_in(range.clone(), |_, aabb| {
-        grid.for_each_cell(&aabb, |cell| starts[cell as usize + 1] += 1);
+        let mut count = 0;
+        let mut only = 0;
+        grid.for_each_cell(&aabb, |cell| {
+            starts[cell as usize + 1] += 1;
+            count += 1;
+            only = cell;
+        });
+        cells.push(if count == 1 { only } else { SEVERAL_CELLS });
     });
     for cell in 0..grid.cell_count() {
         starts[cell + 1] += starts[cell];
@@ -281,15 +295,23 @@ fn file_by_cell<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>, grid: &Gr
     cursor.extend_from_slice(&starts[..grid.cell_count()]);
     // Same length as last update's in a steady state: nothing to write here.
     filed.resize(starts[grid.cell_count()] as usize, CellBox::default());
+    let mut noted = cells.iter();
     boxes.for_each_in(range, |i, aabb| {
-        grid.for_each_cell(&aabb, |cell| {
+        let mut place = |cell: u32| {
             let at = &mut cursor[cell as usize];
             filed[*at as usize] = CellBox { index: i as u32, aabb };
             *at += 1;
-        });
+        };
+        match noted.next() {
+            Some(&cell) if cell != SEVERAL_CELLS => place(cell),
+            _ => grid.for_each_cell(&aabb, place),
+        }
     });
     out
 }
+
+/// Noted for a box that covers more than one cell.
+const SEVERAL_CELLS: u32 = u32::MAX;
 
 /// Kernel: the overlapping pairs `(i, j)` of input indices found in the
 /// `cells`, cell after cell, from the filed chunks (in input order).
