@@ -110,3 +110,51 @@ fn never_overwrites_existing_results() {
         "my old plot"
     );
 }
+
+#[test]
+fn repeated_passes_measure_every_run_each_time_and_write_one_row_per_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("repeat.ron");
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis_cloud.ron");
+    std::fs::write(
+        &config,
+        format!(
+            r#"Bench(scenario: "{scenario}", repeat: 3, runs: [
+                Run(bodies: 40, updates: 4, mode: Sequential),
+                Run(bodies: 40, updates: 4, mode: Parallel, threads: 2),
+            ])"#
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("repeat.csv");
+    let result = kessler()
+        .arg("bench")
+        .arg(&config)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    // Passes go through the runs in turn.
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    let order: Vec<&str> = stderr
+        .lines()
+        .filter_map(|l| l.strip_prefix("run "))
+        .map(|l| l.split(':').next().unwrap().trim())
+        .collect();
+    assert_eq!(
+        order,
+        [
+            "1 (pass 1/3)",
+            "2 (pass 1/3)",
+            "1 (pass 2/3)",
+            "2 (pass 2/3)",
+            "1 (pass 3/3)",
+            "2 (pass 3/3)"
+        ],
+        "{stderr}"
+    );
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let runs: Vec<&str> = csv.lines().skip(1).map(|l| l.split(',').next().unwrap()).collect();
+    assert_eq!(runs, ["1", "2"], "{csv}");
+}

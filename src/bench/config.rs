@@ -18,7 +18,29 @@ pub struct BenchConfig {
     /// thesis scene.
     #[serde(default)]
     pub scenario: Option<PathBuf>,
+    /// How often every run is measured: the passes go through all runs in
+    /// turn, and each run reports its median pass (by update time).
+    #[serde(default = "one_pass", deserialize_with = "repeat")]
+    pub repeat: u32,
     pub runs: Vec<Run>,
+}
+
+/// Most passes a config may ask for.
+pub const MAX_REPEAT: u32 = 1000;
+
+fn one_pass() -> u32 {
+    1
+}
+
+fn repeat<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    use serde::de::Error;
+    let value = u32::deserialize(d).map_err(|e| D::Error::custom(format!("field `repeat`: {e}")))?;
+    if value == 0 || value > MAX_REPEAT {
+        return Err(D::Error::custom(format!(
+            "field `repeat`: must be between 1 and {MAX_REPEAT}, got {value}"
+        )));
+    }
+    Ok(value)
 }
 
 /// One measured run.

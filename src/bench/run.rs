@@ -69,3 +69,41 @@ pub fn measure(
         response_ns: mean(SimulationSystems::Response) + mean(SimulationSystems::Shatter),
     })
 }
+
+/// The pass with the median update time among `passes` of one run (the
+/// lower median for an even count), stage times and all: a robust choice
+/// on a machine whose speed wanders between passes.
+pub fn median_pass(mut passes: Vec<RunResult>) -> Option<RunResult> {
+    passes.sort_by(|a, b| a.update_ns.total_cmp(&b.update_ns));
+    let middle = passes.len().checked_sub(1)? / 2;
+    Some(passes.swap_remove(middle))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pass(update_ns: f64, gravity_ns: f64) -> RunResult {
+        RunResult {
+            run: 1,
+            bodies_start: 10,
+            bodies_end: 10,
+            updates: 5,
+            mode: ExecutionMode::Parallel,
+            threads: 2,
+            update_ns,
+            gravity_ns,
+            integrate_ns: 0.0,
+            broad_phase_ns: 0.0,
+            response_ns: 0.0,
+        }
+    }
+
+    #[test]
+    fn median_pass_is_the_middle_update_time_with_its_own_stages() {
+        let passes = vec![pass(9.0, 1.0), pass(3.0, 2.0), pass(5.0, 3.0), pass(100.0, 4.0), pass(4.0, 5.0)];
+        assert_eq!(median_pass(passes), Some(pass(5.0, 3.0)));
+        assert_eq!(median_pass(vec![pass(8.0, 1.0), pass(2.0, 2.0)]), Some(pass(2.0, 2.0)));
+        assert_eq!(median_pass(Vec::new()), None);
+    }
+}

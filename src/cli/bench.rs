@@ -86,52 +86,63 @@ pub fn bench(config_path: &Path, out: &Path) -> Result<(), Failure> {
         sized.push(scaled);
     }
 
-    let total: u64 = config.runs.iter().map(|r| r.updates + 1).sum();
+    let passes = u64::from(config.repeat);
+    let total: u64 = config.runs.iter().map(|r| r.updates + 1).sum::<u64>() * passes;
     let progress = ProgressBar::new(total).with_style(
         ProgressStyle::with_template("{spinner} [{bar:30}] {pos}/{len} updates, eta {eta} — {msg}")
             .expect("template is valid")
             .progress_chars("=> "),
     );
-    let mut results: Vec<RunResult> = Vec::with_capacity(config.runs.len());
+    // Every pass goes through all runs, so that a slow spell of the machine
+    // falls on several runs rather than on all passes of one.
+    let mut measured: Vec<Vec<RunResult>> = vec![Vec::new(); config.runs.len()];
     let mut finished = 0;
-    for (i, (run, scenario)) in config.runs.iter().zip(&sized).enumerate() {
-        progress.set_message(format!(
-            "run {}/{}: {} bodies, {}",
-            i + 1,
-            config.runs.len(),
-            run.bodies,
-            run.mode
-        ));
-        bench::reset_peak_memory();
-        let result = bench::measure(i + 1, scenario, &origin, run, |done| {
-            progress.set_position(finished + 1 + done)
-        })
-        .map_err(|e| Failure::input(format!("{}: runs[{i}]: {e}", config_path.display())))?;
-        finished += run.updates + 1;
-        let memory = bench::peak_memory().map_or(String::new(), |peak| {
-            format!(
-                ", peak memory {:.0} MiB ({:.0} B/body)",
-                peak as f64 / f64::from(1 << 20),
-                peak as f64 / result.bodies_start.max(1) as f64
-            )
-        });
-        let line = format!(
-            "run {:>3}: {:>8} bodies, {:>10} on {:>2} thread(s): {:>12.3} ms/update{memory}",
-            result.run,
-            result.bodies_start,
-            result.mode.name(),
-            result.threads,
-            result.update_ns / 1e6
-        );
-        // A hidden bar (stderr not a terminal) drops its lines: print them.
-        if progress.is_hidden() {
-            eprintln!("{line}");
-        } else {
-            progress.println(line);
+    for pass in 1..=passes {
+        for (i, (run, scenario)) in config.runs.iter().zip(&sized).enumerate() {
+            let of_passes = if passes > 1 {
+                format!(" (pass {pass}/{passes})")
+            } else {
+                String::new()
+            };
+            progress.set_message(format!(
+                "run {}/{}{of_passes}: {} bodies, {}",
+                i + 1,
+                config.runs.len(),
+                run.bodies,
+                run.mode
+            ));
+            bench::reset_peak_memory();
+            let result = bench::measure(i + 1, scenario, &origin, run, |done| {
+                progress.set_position(finished + 1 + done)
+            })
+            .map_err(|e| Failure::input(format!("{}: runs[{i}]: {e}", config_path.display())))?;
+            finished += run.updates + 1;
+            let memory = bench::peak_memory().map_or(String::new(), |peak| {
+                format!(
+                    ", peak memory {:.0} MiB ({:.0} B/body)",
+                    peak as f64 / f64::from(1 << 20),
+                    peak as f64 / result.bodies_start.max(1) as f64
+                )
+            });
+            let line = format!(
+                "run {:>3}{of_passes}: {:>8} bodies, {:>10} on {:>2} thread(s): {:>12.3} ms/update{memory}",
+                result.run,
+                result.bodies_start,
+                result.mode.name(),
+                result.threads,
+                result.update_ns / 1e6
+            );
+            // A hidden bar (stderr not a terminal) drops its lines: print them.
+            if progress.is_hidden() {
+                eprintln!("{line}");
+            } else {
+                progress.println(line);
+            }
+            measured[i].push(result);
         }
-        results.push(result);
     }
     progress.finish_and_clear();
+    let results: Vec<RunResult> = measured.into_iter().filter_map(bench::median_pass).collect();
 
     fn io(path: &Path) -> impl Fn(std::io::Error) -> Failure + '_ {
         move |e| Failure {
