@@ -101,7 +101,13 @@ mod tests {
 
     #[test]
     fn median_pass_is_the_middle_update_time_with_its_own_stages() {
-        let passes = vec![pass(9.0, 1.0), pass(3.0, 2.0), pass(5.0, 3.0), pass(100.0, 4.0), pass(4.0, 5.0)];
+        let passes = vec![
+            pass(9.0, 1.0),
+            pass(3.0, 2.0),
+            pass(5.0, 3.0),
+            pass(100.0, 4.0),
+            pass(4.0, 5.0),
+        ];
         assert_eq!(median_pass(passes), Some(pass(5.0, 3.0)));
         assert_eq!(median_pass(vec![pass(8.0, 1.0), pass(2.0, 2.0)]), Some(pass(2.0, 2.0)));
         assert_eq!(median_pass(Vec::new()), None);
