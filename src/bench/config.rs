@@ -33,14 +33,7 @@ fn one_pass() -> u32 {
 }
 
 fn repeat<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    use serde::de::Error;
-    let value = u32::deserialize(d).map_err(|e| D::Error::custom(format!("field `repeat`: {e}")))?;
-    if value == 0 || value > MAX_REPEAT {
-        return Err(D::Error::custom(format!(
-            "field `repeat`: must be between 1 and {MAX_REPEAT}, got {value}"
-        )));
-    }
-    Ok(value)
+    one_to(d, "repeat", MAX_REPEAT)
 }
 
 /// One measured run.
@@ -104,14 +97,23 @@ fn updates<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
 }
 
 fn threads<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<usize>, D::Error> {
+    one_to(d, "threads", MAX_THREADS).map(Some)
+}
+
+/// A whole number from 1 to `max` in the field named `field`.
+fn one_to<'de, D, T>(d: D, field: &str, max: T) -> Result<T, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: Deserialize<'de> + PartialOrd + From<u8> + std::fmt::Display,
+{
     use serde::de::Error;
-    let value = usize::deserialize(d).map_err(|e| D::Error::custom(format!("field `threads`: {e}")))?;
-    if value == 0 || value > MAX_THREADS {
+    let value = T::deserialize(d).map_err(|e| D::Error::custom(format!("field `{field}`: {e}")))?;
+    if value < T::from(1) || value > max {
         return Err(D::Error::custom(format!(
-            "field `threads`: must be between 1 and {MAX_THREADS}, got {value}"
+            "field `{field}`: must be between 1 and {max}, got {value}"
         )));
     }
-    Ok(Some(value))
+    Ok(value)
 }
 
 impl BenchConfig {
