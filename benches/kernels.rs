@@ -5,7 +5,7 @@ use bevy::math::DVec3;
 use bevy::prelude::*;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use kessler::components::{BodyId, BodyState, GravityRole, Position, Velocity};
-use kessler::resources::{Execution, ExecutionMode, available_threads};
+use kessler::execution::{Execution, ExecutionMode, available_threads};
 use kessler::rng::Rng;
 use kessler::systems::{
     Aabb, ContactBody, GravitySource, SweepScratch, fragments, gravity_kernel, respond, sweep_and_prune,
@@ -18,8 +18,8 @@ fn execution(mode: ExecutionMode) -> Execution {
     Execution::new(mode, available_threads()).unwrap()
 }
 
-/// Centres uniform in [1, 5000]³, as in the thesis scene.
-fn centres(count: usize) -> Vec<Vec3> {
+/// Centers uniform in [1, 5000]³, as in the thesis scene.
+fn centers(count: usize) -> Vec<Vec3> {
     let mut rng = Rng::new(1);
     (0..count)
         .map(|_| {
@@ -41,7 +41,7 @@ fn gravity(c: &mut Criterion) {
     }];
     for count in COUNTS {
         let ids: Vec<BodyId> = (1..=count as u64).map(BodyId).collect();
-        let positions: Vec<Position> = centres(count).into_iter().map(Position).collect();
+        let positions: Vec<Position> = centers(count).into_iter().map(Position).collect();
         let roles = vec![GravityRole::Adopter; count];
         let mut velocities = vec![Velocity::default(); count];
         for mode in MODES {
@@ -65,7 +65,7 @@ fn gravity(c: &mut Criterion) {
 fn sweep(c: &mut Criterion) {
     let mut group = c.benchmark_group("kernel_sweep_and_prune");
     for count in COUNTS {
-        let mut boxes: Vec<Aabb> = centres(count).into_iter().map(|p| Aabb::new(p, Vec3::ONE)).collect();
+        let mut boxes: Vec<Aabb> = centers(count).into_iter().map(|p| Aabb::new(p, Vec3::ONE)).collect();
         boxes.push(Aabb::new(Vec3::splat(2500.0), Vec3::splat(430.0)));
         for mode in MODES {
             let exec = execution(mode);

@@ -33,7 +33,7 @@ for count in "${counts[@]}"; do
     for method in instanced meshes; do
         line=$("${wrap[@]}" "$bin" run --paused --frames 120 --render "$method" --bodies "$count" \
             --settings "$settings" 2>/dev/null | grep '^frames ')
-        # frames 110 (after 10 warm-up), bodies N, render M: mean A ms, median B ms, p95 C ms (F FPS)
+        # frames 110 (after 10 warm-up), bodies N, render M: mean A ms, median B ms, p95 C ms (F FPS); U updates (R per second)
         frames=$(sed -E 's/^frames ([0-9]+).*/\1/' <<<"$line")
         mean=$(sed -E 's/.*mean ([0-9.]+) ms.*/\1/' <<<"$line")
         median=$(sed -E 's/.*median ([0-9.]+) ms.*/\1/' <<<"$line")

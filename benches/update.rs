@@ -10,14 +10,14 @@ use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use kessler::Simulation;
-use kessler::resources::{Execution, ExecutionMode, available_threads};
+use kessler::execution::{Execution, ExecutionMode, available_threads};
 use kessler::scenario::Scenario;
 
 const MODES: [ExecutionMode; 2] = [ExecutionMode::Sequential, ExecutionMode::Parallel];
 
 fn simulation(text: &str, mode: ExecutionMode) -> Simulation {
     let scenario = Scenario::parse(text, "bench").unwrap();
-    Simulation::from_scenario(&scenario, "bench", Execution::new(mode, available_threads()).unwrap()).unwrap()
+    Simulation::from_scenario(&scenario, Execution::new(mode, available_threads()).unwrap()).unwrap()
 }
 
 /// The thesis scene with `count` cubes.

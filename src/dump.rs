@@ -1,8 +1,9 @@
-//! The CSV state dump of `kessler headless --dump` (DESIGN §5): one row per
-//! body, sorted by id, floats in Rust's shortest round-trip form.
+//! The CSV state dump of `kessler headless --dump` (docs/design.md,
+//! "Command line"): one row per body, sorted by id, floats in Rust's
+//! shortest round-trip form. Written atomically with
+//! [`write_atomically`](crate::output::write_atomically).
 
 use std::io::{self, Write};
-use std::path::Path;
 
 use crate::components::BodyState;
 
@@ -35,30 +36,6 @@ pub fn write_csv(bodies: &[BodyState], mut out: impl Write) -> io::Result<()> {
     out.flush()
 }
 
-/// Writes to `path` through `write`, into a temporary file in the same folder
-/// that is then renamed, so that `path` is either the old file or the whole
-/// new one.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file name"))?;
-    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    let result = (|| {
-        let mut file = io::BufWriter::new(std::fs::File::create(&tmp)?);
-        write(&mut file)?;
-        file.into_inner().map_err(io::IntoInnerError::into_error)?.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
 #[cfg(test)]
 mod tests {
     use bevy::math::Vec3;
@@ -86,22 +63,5 @@ mod tests {
         );
         let x: f32 = "0.81694555".parse().unwrap();
         assert_eq!(x.to_bits(), 0.81694555f32.to_bits());
-    }
-
-    #[test]
-    fn atomic_write_replaces_whole_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("out.csv");
-        std::fs::write(&path, "old").unwrap();
-        write_atomically(&path, |w| w.write_all(b"new")).unwrap();
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
-        let failed = write_atomically(&path, |_| Err(io::Error::other("boom")));
-        assert!(failed.is_err());
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
-        assert_eq!(
-            std::fs::read_dir(dir.path()).unwrap().count(),
-            1,
-            "temporary file left behind"
-        );
     }
 }

@@ -1,11 +1,15 @@
 //! Kessler: thousands to a million bodies orbiting a planet under gravity,
 //! colliding and shattering — every stage sequential or parallel, with
-//! bit-identical results. See `ARCHITECTURE.md` for a map of the folders.
+//! bit-identical results. ARCHITECTURE.md maps the folders;
+//! docs/design.md describes the physics, the algorithms and the contracts.
 
 pub mod bench;
 pub mod cli;
 pub mod components;
 pub mod dump;
+pub mod execution;
+pub mod input;
+pub mod output;
 pub mod resources;
 pub mod rng;
 pub mod scenario;

@@ -1,3 +1,5 @@
+//! The `kessler` binary: everything is in the library; see `cli::main`.
+
 fn main() -> std::process::ExitCode {
     kessler::cli::main()
 }

@@ -4,9 +4,11 @@
 use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, Velocity};
-use crate::resources::{Execution, NextBodyId, SimulationSettings, StageTimings};
-use crate::scenario::{Scenario, ScenarioError};
-use crate::systems::{CollisionStats, SimulationPlugins, run_updates};
+use crate::execution::Execution;
+use crate::input::InputError;
+use crate::resources::{NextBodyId, SimulationSettings};
+use crate::scenario::Scenario;
+use crate::systems::{CollisionStats, SimulationPlugins, StageTimings, run_updates};
 
 /// Spawns `bodies` (ids must be unique and unused) and sets the next fresh
 /// id past the highest; returns that id.
@@ -35,9 +37,9 @@ impl Simulation {
         Self { app }
     }
 
-    /// The bodies and settings of `scenario`; `origin` names it in errors.
-    pub fn from_scenario(scenario: &Scenario, origin: &str, execution: Execution) -> Result<Self, ScenarioError> {
-        Ok(Self::new(&scenario.bodies(origin)?, scenario.settings(), execution))
+    /// The bodies and settings of `scenario`.
+    pub fn from_scenario(scenario: &Scenario, execution: Execution) -> Result<Self, InputError> {
+        Ok(Self::new(&scenario.bodies()?, scenario.settings(), execution))
     }
 
     /// Runs `updates` simulation updates.
@@ -73,7 +75,9 @@ impl Simulation {
         )>();
         let mut bodies: Vec<BodyState> = query
             .iter(world)
-            .map(|(id, t, v, m, h, role, i)| BodyState::from_components(id, t, v, m, h, role, i))
+            .map(|(id, position, velocity, mass, half_extents, role, interacts)| {
+                BodyState::from_components(id, position, velocity, mass, half_extents, role, interacts)
+            })
             .collect();
         bodies.sort_unstable_by_key(|b| b.id);
         bodies
@@ -90,18 +94,22 @@ impl Simulation {
         *self.app.world().resource::<CollisionStats>()
     }
 
+    /// How long the stages and updates took.
     pub fn timings(&self) -> &StageTimings {
         self.app.world().resource::<StageTimings>()
     }
 
+    /// The timings, to reset them.
     pub fn timings_mut(&mut self) -> Mut<'_, StageTimings> {
         self.app.world_mut().resource_mut::<StageTimings>()
     }
 
+    /// The physics and stage switches, to change them between updates.
     pub fn settings_mut(&mut self) -> Mut<'_, SimulationSettings> {
         self.app.world_mut().resource_mut::<SimulationSettings>()
     }
 
+    /// The execution, to switch mode or threads between updates.
     pub fn execution_mut(&mut self) -> Mut<'_, Execution> {
         self.app.world_mut().resource_mut::<Execution>()
     }

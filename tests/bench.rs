@@ -5,6 +5,8 @@ use std::process::Output;
 
 mod common;
 
+use kessler::systems::STAGES;
+
 use common::{assert_one_clear_line, corpus, expectation, kessler};
 
 #[test]
@@ -89,7 +91,11 @@ fn writes_results_overhead_and_plot() {
 
     let overhead = std::fs::read_to_string(dir.path().join("tiny-results-overhead.csv")).unwrap();
     assert!(overhead.starts_with("bodies,stage,sequential_ns,parallel_1_thread_ns,overhead_ns,overhead_percent\n"));
-    assert_eq!(overhead.lines().count(), 6, "{overhead}");
+    // The header, the whole update and each stage of the stage list.
+    assert_eq!(overhead.lines().count(), 2 + STAGES.len(), "{overhead}");
+    for stage in &STAGES {
+        assert!(overhead.contains(&format!(",{},", stage.name)), "{overhead}");
+    }
     let svg = std::fs::read_to_string(dir.path().join("tiny-results.svg")).unwrap();
     assert!(svg.contains("<polyline"), "{svg}");
     let png = std::fs::read(dir.path().join("tiny-results.png")).unwrap();

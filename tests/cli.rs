@@ -82,7 +82,7 @@ fn run_without_window_simulates_the_default_scene() {
 fn pairs_prints_the_thesis_case_as_csv() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("case2.ron");
-    let centres = [
+    let centers = [
         "(-1.81922, 0.13185, 1.43538)",
         "(0, 2, 0)",
         "(-0.570769, -0.697269, 0.466469)",
@@ -91,7 +91,7 @@ fn pairs_prints_the_thesis_case_as_csv() {
         "(-2.7742, -1.23996, 1.75068)",
         "(-0.848593, -3.80494, 1.73219)",
     ];
-    let bodies: Vec<String> = centres.iter().map(|c| format!("Body(position: {c})")).collect();
+    let bodies: Vec<String> = centers.iter().map(|c| format!("Body(position: {c})")).collect();
     std::fs::write(&path, format!("Scenario(bodies: [{}])", bodies.join(", "))).unwrap();
     let out = kessler().arg("pairs").arg(&path).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

@@ -6,12 +6,12 @@ use assert_cmd::Command;
 use bevy::math::{DVec3, Vec3};
 use kessler::Simulation;
 use kessler::components::{BodyId, BodyState};
-use kessler::resources::{Execution, ExecutionMode};
+use kessler::execution::{Execution, ExecutionMode};
 use kessler::scenario::Scenario;
 
 fn sim(text: &str) -> Simulation {
     let scenario = Scenario::parse(text, "test").expect("test scenario parses");
-    Simulation::from_scenario(&scenario, "test", Execution::new(ExecutionMode::Sequential, 1).unwrap()).unwrap()
+    Simulation::from_scenario(&scenario, Execution::new(ExecutionMode::Sequential, 1).unwrap()).unwrap()
 }
 
 fn momentum(bodies: &[BodyState]) -> DVec3 {
@@ -127,7 +127,7 @@ fn each_body_responds_at_most_once_per_update() {
     assert_eq!(b[0].velocity.x, 0.0, "0 handed its velocity to 1");
     assert_eq!(b[2].velocity.x, -0.5, "2 waits for the next update");
     // Update 2: 1 and 2 overlapped already at their previous positions, so
-    // they are only separated (DESIGN §2.4: velocities unchanged) ...
+    // they are only separated (docs/design.md, "Response": velocities unchanged) ...
     s.step(1);
     let b = s.snapshot();
     assert_eq!((b[1].velocity.x, b[2].velocity.x), (0.5, -0.5));
@@ -200,7 +200,7 @@ fn cascade_dumps_are_identical_in_both_modes() {
 fn cascade_is_bit_identical_with_every_kernel_split() {
     let scenario = Scenario::load(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/cascade.ron").as_ref()).unwrap();
     let run = |execution: Execution| {
-        let mut s = Simulation::from_scenario(&scenario, "cascade", execution).unwrap();
+        let mut s = Simulation::from_scenario(&scenario, execution).unwrap();
         s.step(150);
         (s.snapshot(), s.collision_stats().shatters_total)
     };

@@ -2,7 +2,7 @@
 
 use kessler::Simulation;
 use kessler::components::BodyState;
-use kessler::resources::{Execution, ExecutionMode};
+use kessler::execution::{Execution, ExecutionMode};
 use kessler::scenario::Scenario;
 
 fn run(text: &str, mode: ExecutionMode, threads: usize, updates: u64) -> Vec<BodyState> {
@@ -14,7 +14,7 @@ fn run(text: &str, mode: ExecutionMode, threads: usize, updates: u64) -> Vec<Bod
     } else {
         execution
     };
-    let mut sim = Simulation::from_scenario(&scenario, "test", execution).unwrap();
+    let mut sim = Simulation::from_scenario(&scenario, execution).unwrap();
     // Gravity and integration only: self-gravitating debris that shatters
     // re-collapses and shatters again, which is a different test.
     sim.settings_mut().collisions = false;

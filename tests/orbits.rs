@@ -3,13 +3,13 @@
 //! conservation of an eccentric orbit.
 
 use kessler::Simulation;
-use kessler::resources::{Execution, ExecutionMode};
+use kessler::execution::{Execution, ExecutionMode};
 use kessler::scenario::Scenario;
 
 fn sim(text: &str) -> Simulation {
     let scenario = Scenario::parse(text, "test").expect("test scenario parses");
     let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
-    Simulation::from_scenario(&scenario, "test", execution).unwrap()
+    Simulation::from_scenario(&scenario, execution).unwrap()
 }
 
 /// A source of `mass` at the origin and an adopter at `position` with

@@ -1,11 +1,63 @@
 //! The window as a user sees it: `kessler run --frames N --screenshot` under
 //! Xvfb with Mesa's software Vulkan (`.ci/run` installs both), and the
 //! pictures checked for the planet and the bodies.
+//!
+//! Without `xvfb-run`, `xauth` or a Vulkan driver, the tests that open a
+//! window print one line saying they were skipped and why, and pass — unless
+//! `KESSLER_REQUIRE_WINDOW_TESTS=1` (as in CI), where a missing tool fails
+//! them.
 
 #![cfg(feature = "gui")]
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+/// Why the window cannot be opened here, if it cannot.
+fn missing_window_tools() -> Option<String> {
+    let on_path = |tool: &str| {
+        std::env::var_os("PATH").is_some_and(|path| std::env::split_paths(&path).any(|dir| dir.join(tool).is_file()))
+    };
+    for tool in ["xvfb-run", "xauth"] {
+        if !on_path(tool) {
+            return Some(format!("`{tool}` is not installed"));
+        }
+    }
+    let icd_dirs = [
+        "/usr/share/vulkan/icd.d",
+        "/etc/vulkan/icd.d",
+        "/usr/local/share/vulkan/icd.d",
+    ];
+    let has_driver = icd_dirs.iter().any(|dir| {
+        std::fs::read_dir(dir)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .any(|entry| entry.path().extension().is_some_and(|e| e == "json"))
+    });
+    if !has_driver {
+        return Some(format!("no Vulkan driver (no ICD file in {})", icd_dirs.join(", ")));
+    }
+    None
+}
+
+/// Whether `test` can open a window. If not, says so on the terminal (past
+/// the test harness's capture of `eprintln!`) or, when the window tests are
+/// required, fails.
+fn window_available(test: &str) -> bool {
+    let Some(missing) = missing_window_tools() else {
+        return true;
+    };
+    if std::env::var_os("KESSLER_REQUIRE_WINDOW_TESTS").is_some_and(|v| v == "1") {
+        panic!("{test}: {missing}, and KESSLER_REQUIRE_WINDOW_TESTS=1 requires the window tests");
+    }
+    let line = format!(
+        "window test `{test}` skipped: {missing} (apt install xvfb xauth mesa-vulkan-drivers; \
+         KESSLER_REQUIRE_WINDOW_TESTS=1 turns this into a failure)\n"
+    );
+    let _ = std::io::stderr().write_all(line.as_bytes());
+    false
+}
 
 /// Runs the window app under a virtual X server; returns the screenshot,
 /// stdout and stderr.
@@ -23,7 +75,7 @@ fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBu
         .args(extra)
         .env("WGPU_BACKEND", "vulkan")
         .output()
-        .expect("xvfb-run must be installed (apt: xvfb, mesa-vulkan-drivers)");
+        .expect("xvfb-run runs");
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(
@@ -74,6 +126,9 @@ fn differs(a: [u8; 3], b: [u8; 3]) -> bool {
 
 #[test]
 fn window_shows_the_planet_and_the_bodies() {
+    if !window_available("window_shows_the_planet_and_the_bodies") {
+        return;
+    }
     let dir = tempfile::tempdir().unwrap();
     let (with_bodies, report, _) = run_window(dir.path(), "bodies", "()", &[]);
     let (without, ..) = run_window(dir.path(), "empty", "(render_bodies: false)", &[]);
@@ -86,17 +141,17 @@ fn window_shows_the_planet_and_the_bodies() {
     let meshes = Picture::load(&meshes);
     assert_eq!((with_bodies.width, with_bodies.height), (1280, 800));
 
-    // Not blank: many distinct colours.
-    let mut colours: Vec<[u8; 3]> = with_bodies.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-    colours.sort_unstable();
-    colours.dedup();
-    assert!(colours.len() > 200, "only {} colours", colours.len());
+    // Not blank: many distinct colors.
+    let mut colors: Vec<[u8; 3]> = with_bodies.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    colors.sort_unstable();
+    colors.dedup();
+    assert!(colors.len() > 200, "only {} colors", colors.len());
 
     // The planet fills the middle of the view: a lit blue sphere.
     let [r, g, b] = with_bodies.pixel(with_bodies.width / 2, with_bodies.height / 2);
     assert!(
         b > 100 && b > r + 40 && b > g,
-        "centre pixel {:?} is not the planet",
+        "center pixel {:?} is not the planet",
         [r, g, b]
     );
 
@@ -113,6 +168,9 @@ fn window_shows_the_planet_and_the_bodies() {
 
 #[test]
 fn broken_settings_warn_and_survive_a_run() {
+    if !window_available("broken_settings_warn_and_survive_a_run") {
+        return;
+    }
     let dir = tempfile::tempdir().unwrap();
     let broken = "(threads: \"many\"";
     let (.., stderr) = run_window(dir.path(), "broken", broken, &["--paused", "--bodies", "100"]);
@@ -137,7 +195,7 @@ fn screenshot_never_overwrites() {
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(
-        stderr.contains("exists.png") && stderr.contains("already exists"),
+        stderr.contains("exists.png") && stderr.contains("exists already"),
         "{stderr}"
     );
     assert_eq!(std::fs::read_to_string(&shot).unwrap(), "precious");

@@ -3,11 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
+use ron::extensions::Extensions;
+use serde::{Deserialize, Deserializer};
 
-use crate::resources::{ExecutionMode, MAX_THREADS};
-use crate::scenario::ScenarioError;
-use crate::scenario::checked::MAX_BODIES;
+use crate::execution::{ExecutionMode, MAX_THREADS};
+use crate::input::{InputError, body_count, load_ron, whole_at_least, whole_between};
+use crate::scenario::{MAX_BODIES, Scenario};
 
 /// A benchmark: runs of one scenario at several sizes and execution modes.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -22,6 +23,7 @@ pub struct BenchConfig {
     /// turn, and each run reports its median pass (by update time).
     #[serde(default = "one_pass", deserialize_with = "repeat")]
     pub repeat: u32,
+    /// The runs, measured in this order in every pass.
     pub runs: Vec<Run>,
 }
 
@@ -30,10 +32,6 @@ pub const MAX_REPEAT: u32 = 1000;
 
 fn one_pass() -> u32 {
     1
-}
-
-fn repeat<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    one_to(d, "repeat", MAX_REPEAT)
 }
 
 /// One measured run.
@@ -47,6 +45,7 @@ pub struct Run {
     /// Updates to run and average over.
     #[serde(deserialize_with = "updates")]
     pub updates: u64,
+    /// Sequential or parallel; default parallel.
     #[serde(default)]
     pub mode: ExecutionMode,
     /// Worker threads in parallel mode; all hardware threads if omitted.
@@ -57,13 +56,18 @@ pub struct Run {
     pub stages: Stages,
 }
 
-/// Stage switches of a run.
+/// Stage switches of a run; the names are
+/// [`SimulationSettings`](crate::resources::SimulationSettings)'s.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Stages {
+    /// The gravity stage.
     pub gravity: bool,
+    /// Collision detection (the broad phase).
     pub collisions: bool,
-    pub response: bool,
+    /// Bounce and shatter (`response` in older configs).
+    #[serde(alias = "response")]
+    pub collision_response: bool,
 }
 
 impl Default for Stages {
@@ -71,75 +75,64 @@ impl Default for Stages {
         Self {
             gravity: true,
             collisions: true,
-            response: true,
+            collision_response: true,
         }
     }
 }
 
-fn bodies<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
-    use serde::de::Error;
-    let value = u64::deserialize(d).map_err(|e| D::Error::custom(format!("field `bodies`: {e}")))?;
-    if value > MAX_BODIES {
-        return Err(D::Error::custom(format!(
-            "field `bodies`: {value} bodies would not fit in memory (at most {MAX_BODIES})"
-        )));
-    }
-    Ok(value)
+fn repeat<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    whole_between(d, "repeat", 1, MAX_REPEAT)
 }
 
-fn updates<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
-    use serde::de::Error;
-    let value = u64::deserialize(d).map_err(|e| D::Error::custom(format!("field `updates`: {e}")))?;
-    if value == 0 {
-        return Err(D::Error::custom("field `updates`: must be at least 1"));
-    }
-    Ok(value)
+fn bodies<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    body_count(d, "bodies", MAX_BODIES)
 }
 
-fn threads<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<usize>, D::Error> {
-    one_to(d, "threads", MAX_THREADS).map(Some)
+fn updates<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    whole_at_least(d, "updates", 1)
 }
 
-/// A whole number from 1 to `max` in the field named `field`.
-fn one_to<'de, D, T>(d: D, field: &str, max: T) -> Result<T, D::Error>
-where
-    D: serde::Deserializer<'de>,
-    T: Deserialize<'de> + PartialOrd + From<u8> + std::fmt::Display,
-{
-    use serde::de::Error;
-    let value = T::deserialize(d).map_err(|e| D::Error::custom(format!("field `{field}`: {e}")))?;
-    if value < T::from(1) || value > max {
-        return Err(D::Error::custom(format!(
-            "field `{field}`: must be between 1 and {max}, got {value}"
-        )));
-    }
-    Ok(value)
+fn threads<'de, D: Deserializer<'de>>(d: D) -> Result<Option<usize>, D::Error> {
+    whole_between(d, "threads", 1, MAX_THREADS).map(Some)
 }
 
 impl BenchConfig {
     /// Reads and parses a config file.
-    pub fn load(path: &Path) -> Result<Self, ScenarioError> {
-        let origin = path.display().to_string();
-        let error = |location, message: String| ScenarioError {
-            origin: origin.clone(),
-            location,
-            message,
-        };
-        let text = std::fs::read_to_string(path).map_err(|e| error(None, format!("cannot read the file: {e}")))?;
-        let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
-        let config: Self = options
-            .from_str(&text)
-            .map_err(|e| error(Some((e.span.start.line, e.span.start.col)), e.code.to_string()))?;
+    pub fn load(path: &Path) -> Result<Self, InputError> {
+        let config: Self = load_ron(path, Extensions::IMPLICIT_SOME)?;
         if config.runs.is_empty() {
-            return Err(error(None, "field `runs`: lists no runs".to_owned()));
+            return Err(InputError::new(
+                path.display().to_string(),
+                "field `runs`: lists no runs",
+            ));
         }
         Ok(config)
     }
 
-    /// The scenario file a relative path in the config refers to.
-    pub fn scenario_path(&self, config_path: &Path) -> Option<PathBuf> {
-        self.scenario
-            .as_ref()
-            .map(|p| config_path.parent().unwrap_or(Path::new(".")).join(p))
+    /// The scenario the runs scale: the file named in the config (relative
+    /// to the config's folder), or the built-in thesis scene.
+    pub fn load_scenario(&self, config_path: &Path) -> Result<Scenario, InputError> {
+        match &self.scenario {
+            Some(path) => {
+                let path = config_path.parent().unwrap_or(Path::new(".")).join(path);
+                Scenario::load(&path)
+                    .map_err(|e| InputError::new(config_path.display().to_string(), format!("field `scenario`: {e}")))
+            }
+            None => Ok(Scenario::builtin_thesis()),
+        }
+    }
+
+    /// The scenario resized for each run, before any is measured, so that
+    /// a bad run fails fast.
+    pub fn size_runs(&self, scenario: &Scenario, config_path: &Path) -> Result<Vec<Scenario>, InputError> {
+        self.runs
+            .iter()
+            .enumerate()
+            .map(|(i, run)| {
+                scenario
+                    .with_generated(run.bodies)
+                    .map_err(|e| InputError::new(config_path.display().to_string(), format!("runs[{i}]: {e}")))
+            })
+            .collect()
     }
 }

@@ -15,9 +15,17 @@ pub fn reset_peak_memory() {
 /// count it.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn release_free_memory() {
+    // SAFETY: `malloc_trim` is glibc's (this function is built for glibc
+    // targets only), takes a plain integer, touches only the allocator's
+    // own free lists under the allocator's lock, and may be called at any
+    // time from any thread; so it is declared `safe`.
+    #[expect(
+        unsafe_code,
+        reason = "the one foreign function the crate calls (glibc's malloc_trim)"
+    )]
     unsafe extern "C" {
         /// glibc: returns free memory at the top of the heap and in the
-        /// middle of every arena to the system; always safe to call.
+        /// middle of every arena to the system.
         safe fn malloc_trim(pad: usize) -> std::ffi::c_int;
     }
     malloc_trim(0);

@@ -1,248 +1,203 @@
-//! The benchmark plot: update time against body count, log–log, one colour
+//! The benchmark plot: update time against body count, log–log, one color
 //! per execution setting (sequential, parallel on T threads), a thick line
-//! for the whole update and thin dashed lines for each stage. Written as SVG
-//! by hand (no fonts or raster libraries needed).
+//! for the whole update and a thin dashed line for each stage of the stage
+//! list. Drawn with plotters as SVG and as PNG; the labels use the Ubuntu
+//! font that `epaint_default_fonts` bundles (the crate egui takes its fonts
+//! from), so the PNG reads the same on every machine, with or without
+//! system fonts.
 
 use std::collections::BTreeMap;
-use std::fmt::Write;
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
 
 use super::run::RunResult;
+use crate::execution::ExecutionMode;
+use crate::systems::STAGES;
 
-const WIDTH: f64 = 960.0;
-const HEIGHT: f64 = 600.0;
-const LEFT: f64 = 110.0;
-const RIGHT: f64 = 250.0;
-const TOP: f64 = 50.0;
-const BOTTOM: f64 = 60.0;
-const COLOURS: [&str; 6] = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"];
-
-/// Stage name, value of a result, dash pattern.
-type Series = (&'static str, fn(&RunResult) -> f64, &'static str);
-const SERIES: [Series; 5] = [
-    ("update", |r| r.update_ns, ""),
-    ("gravity", |r| r.gravity_ns, "2,3"),
-    ("integrate", |r| r.integrate_ns, "8,3,2,3"),
-    ("broad phase", |r| r.broad_phase_ns, "6,4"),
-    ("response", |r| r.response_ns, "12,4"),
+/// Width and height of the plot in pixels.
+pub const PLOT_SIZE: (u32, u32) = (960, 600);
+/// Width of the legend at the right.
+const LEGEND_WIDTH: u32 = 230;
+/// The font family every text is set in (registered as Ubuntu Light).
+const FONT: &str = "sans-serif";
+/// Colors of the execution settings, in turn.
+const SETTING_COLORS: [RGBColor; 6] = [
+    RGBColor(214, 39, 40),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
 ];
 
-/// Log-scale axis from 10^lo to 10^hi over pixels `from..to`.
-struct Axis {
-    lo: f64,
-    hi: f64,
-    from: f64,
-    to: f64,
-}
-
-impl Axis {
-    fn fit(values: impl Iterator<Item = f64>, from: f64, to: f64) -> Self {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for v in values.filter(|v| *v > 0.0) {
-            lo = lo.min(v.log10().floor());
-            hi = hi.max(v.log10().ceil());
-        }
-        if !lo.is_finite() {
-            (lo, hi) = (0.0, 1.0);
-        }
-        Self {
-            lo,
-            hi: hi.max(lo + 1.0),
-            from,
-            to,
-        }
-    }
-
-    fn pixel(&self, v: f64) -> f64 {
-        self.from + (v.log10() - self.lo) / (self.hi - self.lo) * (self.to - self.from)
-    }
-}
-
-fn label(exponent: f64, unit: &str) -> String {
-    let v = 10f64.powf(exponent);
-    if v >= 1.0 {
-        format!("{v:.0}{unit}")
-    } else {
-        format!("{v}{unit}")
-    }
-}
+/// The plot could not be drawn.
+#[derive(Debug, thiserror::Error)]
+#[error("plot: {0}")]
+pub struct PlotError(String);
 
 /// The plot as an SVG document.
-pub fn svg(results: &[RunResult], title: &str) -> String {
+pub fn svg(results: &[RunResult], title: &str) -> Result<String, PlotError> {
+    let mut text = String::new();
+    draw(
+        SVGBackend::with_string(&mut text, PLOT_SIZE).into_drawing_area(),
+        results,
+        title,
+    )?;
+    Ok(text)
+}
+
+/// The plot as a PNG image.
+pub fn png(results: &[RunResult], title: &str) -> Result<Vec<u8>, PlotError> {
+    let (width, height) = PLOT_SIZE;
+    let mut rgb = vec![0u8; (width * height * 3) as usize];
+    draw(
+        BitMapBackend::with_buffer(&mut rgb, PLOT_SIZE).into_drawing_area(),
+        results,
+        title,
+    )?;
+    let mut png = Vec::new();
+    let mut encoder = ::png::Encoder::new(&mut png, width, height);
+    encoder.set_color(::png::ColorType::Rgb);
+    encoder.set_depth(::png::BitDepth::Eight);
+    encoder
+        .write_header()
+        .and_then(|mut writer| writer.write_image_data(&rgb))
+        .map_err(|e| PlotError(e.to_string()))?;
+    Ok(png)
+}
+
+/// Dash length and gap of the `k`-th stage's line, pixels.
+fn dash(k: usize) -> (u32, u32) {
+    let k = k as u32;
+    (2 + 4 * k, 3 + k)
+}
+
+/// The decades `10^lo..10^hi` that hold every positive value (1..10 if
+/// there is none).
+fn decades(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| *v > 0.0) {
+        lo = lo.min(v.log10().floor());
+        hi = hi.max(v.log10().ceil());
+    }
+    if !lo.is_finite() {
+        (lo, hi) = (0.0, 1.0);
+    }
+    10f64.powf(lo)..10f64.powf(hi.max(lo + 1.0))
+}
+
+/// What a setting is called in the legend.
+fn setting_name(mode: ExecutionMode, threads: usize) -> String {
+    match mode {
+        ExecutionMode::Sequential => mode.to_string(),
+        ExecutionMode::Parallel => format!("{mode}, {threads} thread{}", if threads == 1 { "" } else { "s" }),
+    }
+}
+
+fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, results: &[RunResult], title: &str) -> Result<(), PlotError> {
+    draw_on(root, results, title).map_err(|e| PlotError(e.to_string()))
+}
+
+fn draw_on<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    results: &[RunResult],
+    title: &str,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    static FONT_REGISTERED: Once = Once::new();
+    FONT_REGISTERED.call_once(|| {
+        // The bundled font is valid; if it were not, text would be missing.
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
+    });
     let ms = |ns: f64| ns / 1e6;
-    let points: Vec<&RunResult> = results.iter().filter(|r| r.bodies_start > 0).collect();
-    let x = Axis::fit(points.iter().map(|r| r.bodies_start as f64), LEFT, WIDTH - RIGHT);
-    let y = Axis::fit(
-        points
-            .iter()
-            .flat_map(|r| SERIES.iter().map(|(_, value, _)| ms(value(r)))),
-        HEIGHT - BOTTOM,
-        TOP,
-    );
-    let mut groups: BTreeMap<(String, usize), Vec<&RunResult>> = BTreeMap::new();
-    for r in &points {
-        groups.entry((r.mode.to_string(), r.threads)).or_default().push(r);
+    // Runs by execution setting, sequential first.
+    let mut settings: BTreeMap<(ExecutionMode, usize), Vec<&RunResult>> = BTreeMap::new();
+    for r in results.iter().filter(|r| r.bodies_start > 0) {
+        settings.entry((r.mode, r.threads)).or_default().push(r);
     }
-
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" viewBox="0 0 {WIDTH} {HEIGHT}" font-family="sans-serif" font-size="13">"#
-    );
-    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="28" font-size="17" text-anchor="middle">{}</text>"#,
-        (LEFT + WIDTH - RIGHT) / 2.0,
-        escape(title)
-    );
-    // Grid and tick labels at every decade.
-    for e in (x.lo as i32)..=(x.hi as i32) {
-        let px = x.pixel(10f64.powi(e));
-        let _ = writeln!(
-            s,
-            r##"<line x1="{px:.1}" y1="{TOP}" x2="{px:.1}" y2="{:.1}" stroke="#ddd"/>"##,
-            HEIGHT - BOTTOM
-        );
-        let _ = writeln!(
-            s,
-            r#"<text x="{px:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-            HEIGHT - BOTTOM + 18.0,
-            label(f64::from(e), "")
-        );
-    }
-    for e in (y.lo as i32)..=(y.hi as i32) {
-        let py = y.pixel(10f64.powi(e));
-        let _ = writeln!(
-            s,
-            r##"<line x1="{LEFT}" y1="{py:.1}" x2="{:.1}" y2="{py:.1}" stroke="#ddd"/>"##,
-            WIDTH - RIGHT
-        );
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"#,
-            LEFT - 6.0,
-            py + 4.0,
-            label(f64::from(e), " ms")
-        );
-    }
-    let _ = writeln!(
-        s,
-        r#"<rect x="{LEFT}" y="{TOP}" width="{:.1}" height="{:.1}" fill="none" stroke="black"/>"#,
-        WIDTH - RIGHT - LEFT,
-        HEIGHT - BOTTOM - TOP
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">bodies</text>"#,
-        (LEFT + WIDTH - RIGHT) / 2.0,
-        HEIGHT - 15.0
-    );
-    let _ = writeln!(
-        s,
-        r#"<text transform="translate(20 {:.1}) rotate(-90)" text-anchor="middle">time per update</text>"#,
-        (TOP + HEIGHT - BOTTOM) / 2.0
+    let all = || settings.values().flatten();
+    let x_range = decades(all().map(|r| r.bodies_start as f64));
+    let y_range = decades(
+        all()
+            .flat_map(|r| std::iter::once(r.update_ns).chain(r.stage_ns))
+            .map(ms),
     );
 
-    // One colour per execution setting; the stages as dashed lines.
-    let mut legend_y = TOP + 10.0;
-    let legend_x = WIDTH - RIGHT + 20.0;
-    for (i, ((mode, threads), runs)) in groups.iter_mut().enumerate() {
+    root.fill(&WHITE)?;
+    let (plot_area, legend_area) = root.split_horizontally(PLOT_SIZE.0 - LEGEND_WIDTH);
+    let mut chart = ChartBuilder::on(&plot_area)
+        .caption(title, (FONT, 18))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("bodies")
+        .y_desc("time per update, ms")
+        .label_style((FONT, 13))
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| format!("{v}"))
+        .draw()?;
+    for (i, runs) in settings.values_mut().enumerate() {
         runs.sort_by_key(|r| r.bodies_start);
-        let colour = COLOURS[i % COLOURS.len()];
-        for (name, value, dash) in SERIES {
-            let line: Vec<String> = runs
+        let color = SETTING_COLORS[i % SETTING_COLORS.len()];
+        let update = runs.iter().map(|r| (r.bodies_start as f64, ms(r.update_ns)));
+        chart.draw_series(LineSeries::new(update, color.stroke_width(3)))?;
+        for (k, stage) in STAGES.iter().enumerate() {
+            let line: Vec<(f64, f64)> = runs
                 .iter()
-                .filter(|r| value(r) > 0.0)
-                .map(|r| format!("{:.1},{:.1}", x.pixel(r.bodies_start as f64), y.pixel(ms(value(r)))))
+                .filter(|r| r.stage(stage.stage) > 0.0)
+                .map(|r| (r.bodies_start as f64, ms(r.stage(stage.stage))))
                 .collect();
-            if line.is_empty() {
-                continue;
-            }
-            let width = if name == "update" { 2.5 } else { 1.2 };
-            let _ = writeln!(
-                s,
-                r#"<polyline class="{}" points="{}" fill="none" stroke="{colour}" stroke-width="{width}" stroke-dasharray="{dash}"/>"#,
-                name.replace(' ', "_"),
-                line.join(" ")
-            );
+            let (length, gap) = dash(k);
+            chart.draw_series(DashedLineSeries::new(line, length, gap, color.stroke_width(1)))?;
         }
-        let setting = if mode == "sequential" {
-            mode.clone()
-        } else {
-            format!("{mode}, {threads} thread{}", if *threads == 1 { "" } else { "s" })
-        };
-        let _ = writeln!(
-            s,
-            r#"<rect x="{legend_x:.1}" y="{:.1}" width="14" height="14" fill="{colour}"/>"#,
-            legend_y - 11.0
-        );
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.1}" y="{legend_y:.1}">{setting}</text>"#,
-            legend_x + 20.0
-        );
-        legend_y += 22.0;
     }
-    legend_y += 10.0;
-    for (name, _, dash) in SERIES {
-        let width = if name == "update" { 2.5 } else { 1.2 };
-        let _ = writeln!(
-            s,
-            r#"<line x1="{legend_x:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="black" stroke-width="{width}" stroke-dasharray="{dash}"/>"#,
-            legend_y - 4.0,
-            legend_x + 30.0,
-            legend_y - 4.0
-        );
-        let label = if name == "update" { "whole update" } else { name };
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.1}" y="{legend_y:.1}">{label}</text>"#,
-            legend_x + 38.0
-        );
-        legend_y += 20.0;
-    }
-    s.push_str("</svg>\n");
-    s
+    draw_legend(&legend_area, settings.keys().copied())
 }
 
-/// Renders an SVG document (the plot) to PNG. Text is drawn with the
-/// system's fonts (DejaVu Sans where present); without any font the lines
-/// are still drawn.
-pub fn png(svg: &str) -> Result<Vec<u8>, String> {
-    use resvg::{tiny_skia, usvg};
-    let mut options = usvg::Options::default();
-    let fonts = options.fontdb_mut();
-    fonts.load_system_fonts();
-    let family = fonts
-        .faces()
-        .flat_map(|face| face.families.iter().map(|(name, _)| name.clone()))
-        .find(|name| name == "DejaVu Sans")
-        .or_else(|| {
-            fonts
-                .faces()
-                .next()
-                .and_then(|face| face.families.first().map(|(name, _)| name.clone()))
-        });
-    if let Some(family) = family {
-        fonts.set_sans_serif_family(family);
+/// The legend: a color swatch per setting, then the line style of the whole
+/// update and of each stage.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    settings: impl Iterator<Item = (ExecutionMode, usize)>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let text = (FONT, 13).into_font().color(&BLACK);
+    let mut y = 60;
+    for (i, (mode, threads)) in settings.enumerate() {
+        let color = SETTING_COLORS[i % SETTING_COLORS.len()];
+        area.draw(&Rectangle::new([(10, y - 7), (24, y + 7)], color.filled()))?;
+        area.draw(&Text::new(setting_name(mode, threads), (32, y - 7), text.clone()))?;
+        y += 22;
     }
-    let tree = usvg::Tree::from_str(svg, &options).map_err(|e| format!("plot: {e}"))?;
-    let size = tree.size().to_int_size();
-    let mut pixmap = tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("plot: empty picture")?;
-    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
-    pixmap.encode_png().map_err(|e| format!("plot: {e}"))
-}
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    y += 12;
+    area.draw(&PathElement::new(vec![(10, y), (40, y)], BLACK.stroke_width(3)))?;
+    area.draw(&Text::new("whole update", (48, y - 7), text.clone()))?;
+    for (k, stage) in STAGES.iter().enumerate() {
+        y += 20;
+        let (length, gap) = dash(k);
+        area.draw(&DashedPathElement::new(
+            vec![(10, y), (40, y)],
+            length,
+            gap,
+            BLACK.stroke_width(1),
+        ))?;
+        area.draw(&Text::new(stage.label, (48, y - 7), text.clone()))?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::resources::ExecutionMode;
+    use crate::systems::{STAGE_COUNT, SimulationSystems};
 
     fn result(bodies: usize, mode: ExecutionMode, threads: usize, ns: f64) -> RunResult {
+        let mut stage_ns = [ns / 8.0; STAGE_COUNT];
+        stage_ns[SimulationSystems::Response as usize] = 0.0;
         RunResult {
             run: 1,
             bodies_start: bodies,
@@ -251,69 +206,74 @@ mod tests {
             mode,
             threads,
             update_ns: ns,
-            gravity_ns: ns / 2.0,
-            integrate_ns: ns / 4.0,
-            broad_phase_ns: ns / 8.0,
-            response_ns: 0.0,
+            stage_ns,
         }
     }
 
-    #[test]
-    fn one_line_per_setting_and_stage_on_log_axes() {
-        let results = [
+    fn results() -> Vec<RunResult> {
+        vec![
             result(0, ExecutionMode::Sequential, 1, 1e3),
             result(1000, ExecutionMode::Sequential, 1, 1e5),
             result(100_000, ExecutionMode::Sequential, 1, 1e7),
             result(1000, ExecutionMode::Parallel, 2, 1e5),
             result(100_000, ExecutionMode::Parallel, 2, 5e6),
-        ];
-        let svg = svg(&results, "a < b");
-        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-        assert!(svg.contains("a &lt; b"));
-        // Two settings × four stages with data (response is all zero).
-        assert_eq!(svg.matches("<polyline").count(), 8);
-        assert_eq!(svg.matches(r#"class="update""#).count(), 2);
-        // Zero bodies cannot sit on a log axis: two points per line.
-        let update_line = svg.lines().find(|l| l.contains(r#"class="update""#)).unwrap();
-        assert_eq!(
-            update_line
-                .split("points=\"")
-                .nth(1)
-                .unwrap()
-                .split('"')
-                .next()
-                .unwrap()
-                .split(' ')
-                .count(),
-            2
-        );
-        // Decades 10^3…10^5 bodies and 10^-1…10^1 ms are labelled.
-        for tick in [">1000<", ">100000<", ">0.1 ms<", ">10 ms<"] {
-            assert!(svg.contains(tick), "missing tick {tick}");
-        }
+        ]
     }
 
     #[test]
-    fn png_shows_the_lines_on_white() {
-        let results = [
-            result(1000, ExecutionMode::Sequential, 1, 1e5),
-            result(100_000, ExecutionMode::Sequential, 1, 1e7),
-        ];
-        let png = png(&svg(&results, "t")).unwrap();
-        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
-        let pixmap = resvg::tiny_skia::Pixmap::decode_png(&png).unwrap();
-        assert_eq!((pixmap.width(), pixmap.height()), (WIDTH as u32, HEIGHT as u32));
-        let pixels = pixmap.pixels();
-        let white = pixels
-            .iter()
-            .filter(|p| (p.red(), p.green(), p.blue()) == (255, 255, 255))
-            .count();
-        // The first series' colour (#d62728) is drawn somewhere.
-        let red = pixels
-            .iter()
-            .filter(|p| p.red() > 180 && p.green() < 80 && p.blue() < 80)
-            .count();
+    fn svg_has_the_title_the_legend_and_a_line_per_setting() {
+        let svg = svg(&results(), "a < b").unwrap();
+        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+        // Each text element's content stands on a line of its own.
+        let has_text = |text: &str| svg.lines().any(|l| l.trim() == text);
+        assert!(has_text("a &lt; b"), "the title, escaped");
+        for text in ["sequential", "parallel, 2 threads", "whole update", "bodies"] {
+            assert!(has_text(text), "missing {text}");
+        }
+        for stage in &STAGES {
+            assert!(has_text(stage.label), "legend lacks {}", stage.label);
+        }
+        // The whole update: one thick line in each setting's color, through
+        // its two points (zero bodies cannot sit on a log axis).
+        let thick: Vec<&str> = svg
+            .lines()
+            .filter(|l| l.contains("<polyline") && l.contains("stroke-width=\"3\"") && !l.contains("#000000"))
+            .collect();
+        assert_eq!(thick.len(), 2, "{thick:?}");
+        assert!(
+            thick[0].contains("#D62728") && thick[1].contains("#1F77B4"),
+            "{thick:?}"
+        );
+        let points = |line: &str| {
+            let list = line.split("points=\"").nth(1).unwrap();
+            list.split('"').next().unwrap().split_whitespace().count()
+        };
+        assert!(thick.iter().all(|l| points(l) == 2), "{thick:?}");
+    }
+
+    #[test]
+    fn png_shows_lines_and_text_on_white() {
+        let png = png(&results(), "t").unwrap();
+        let decoder = ::png::Decoder::new(std::io::Cursor::new(png));
+        let mut reader = decoder.read_info().unwrap();
+        let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut rgb).unwrap();
+        assert_eq!((info.width, info.height), PLOT_SIZE);
+        let width = info.width as usize;
+        let pixels: Vec<(usize, &[u8])> = rgb.chunks(3).enumerate().map(|(i, p)| (i % width, p)).collect();
+        let count = |f: &dyn Fn(usize, &[u8]) -> bool| pixels.iter().filter(|(x, p)| f(*x, p)).count();
+        let white = count(&|_, p| p == [255, 255, 255]);
+        // The first setting's color (#d62728) is drawn.
+        let red = count(&|_, p| p[0] > 180 && p[1] < 80 && p[2] < 80);
+        // The legend's text: dark gray pixels right of the plot, far more
+        // than its line samples alone make.
+        let legend_x = (PLOT_SIZE.0 - LEGEND_WIDTH) as usize;
+        let text = count(&|x, p| {
+            let (lo, hi) = (p.iter().min().unwrap(), p.iter().max().unwrap());
+            x >= legend_x && *hi < 128 && hi - lo < 12
+        });
         assert!(white > pixels.len() / 2, "background is not white");
-        assert!(red > 200, "only {red} pixels of the line colour");
+        assert!(red > 200, "only {red} pixels of the line color");
+        assert!(text > 600, "only {text} dark pixels in the legend: is the text drawn?");
     }
 }

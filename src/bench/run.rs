@@ -2,26 +2,49 @@
 
 use super::config::Run;
 use crate::Simulation;
-use crate::resources::{Execution, ExecutionMode, available_threads};
+use crate::execution::{Execution, ExecutionError, ExecutionMode, available_threads};
+use crate::input::InputError;
 use crate::scenario::Scenario;
-use crate::systems::SimulationSystems;
+use crate::systems::{STAGE_COUNT, SimulationSystems};
 
 /// Mean timings of one run, in nanoseconds per update.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunResult {
     /// Position of the run in the config, from 1.
     pub run: usize,
+    /// Bodies after the warm-up update.
     pub bodies_start: usize,
+    /// Bodies after the last update.
     pub bodies_end: usize,
+    /// Updates measured.
     pub updates: u64,
+    /// Sequential or parallel.
     pub mode: ExecutionMode,
+    /// Threads the stages ran on (1 in sequential mode).
     pub threads: usize,
+    /// Mean time of a whole update.
     pub update_ns: f64,
-    pub gravity_ns: f64,
-    pub integrate_ns: f64,
-    pub broad_phase_ns: f64,
-    /// Response and shattering (DESIGN §2.4).
-    pub response_ns: f64,
+    /// Mean time of each stage, indexed by stage (0 for a stage that was
+    /// off).
+    pub stage_ns: [f64; STAGE_COUNT],
+}
+
+impl RunResult {
+    /// Mean time of `stage`.
+    pub fn stage(&self, stage: SimulationSystems) -> f64 {
+        self.stage_ns[stage as usize]
+    }
+}
+
+/// Why a run could not be measured.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The worker pool could not be made.
+    #[error(transparent)]
+    Execution(#[from] ExecutionError),
+    /// The scenario's bodies could not be made.
+    #[error(transparent)]
+    Scenario(#[from] InputError),
 }
 
 /// Runs `run` on `scenario` (already scaled to the run's size): one warm-up
@@ -30,43 +53,35 @@ pub struct RunResult {
 pub fn measure(
     index: usize,
     scenario: &Scenario,
-    origin: &str,
     run: &Run,
     mut progress: impl FnMut(u64),
-) -> Result<RunResult, String> {
+) -> Result<RunResult, RunError> {
     let threads = run.threads.unwrap_or_else(available_threads);
-    let execution = Execution::new(run.mode, threads).map_err(|e| e.to_string())?;
-    let mut sim = Simulation::from_scenario(scenario, origin, execution).map_err(|e| e.to_string())?;
+    let execution = Execution::new(run.mode, threads)?;
+    let threads = execution.threads_used();
+    let mut sim = Simulation::from_scenario(scenario, execution)?;
     {
         let mut settings = sim.settings_mut();
         settings.gravity = run.stages.gravity;
         settings.collisions = run.stages.collisions;
-        settings.collision_response = run.stages.response;
+        settings.collision_response = run.stages.collision_response;
     }
     sim.step(1);
     sim.timings_mut().reset();
     let bodies_start = sim.body_count();
     sim.step_reporting(run.updates, 100, &mut progress);
     let bodies_end = sim.body_count();
-    let t = sim.timings();
-    // A stage that was off ran no samples: its mean stays 0.
-    let mean = |stage| t.stage(stage).mean_ns;
+    let timings = sim.timings();
     Ok(RunResult {
         run: index,
         bodies_start,
         bodies_end,
         updates: run.updates,
         mode: run.mode,
-        threads: if run.mode == ExecutionMode::Sequential {
-            1
-        } else {
-            threads
-        },
-        update_ns: t.update.mean_ns,
-        gravity_ns: mean(SimulationSystems::Gravity),
-        integrate_ns: mean(SimulationSystems::Integrate),
-        broad_phase_ns: mean(SimulationSystems::BroadPhase),
-        response_ns: mean(SimulationSystems::Response) + mean(SimulationSystems::Shatter),
+        threads,
+        update_ns: timings.update.mean_ns,
+        // A stage that was off ran no samples: its mean stays 0.
+        stage_ns: SimulationSystems::ALL.map(|stage| timings.stage(stage).mean_ns),
     })
 }
 
@@ -84,6 +99,8 @@ mod tests {
     use super::*;
 
     fn pass(update_ns: f64, gravity_ns: f64) -> RunResult {
+        let mut stage_ns = [0.0; STAGE_COUNT];
+        stage_ns[SimulationSystems::Gravity as usize] = gravity_ns;
         RunResult {
             run: 1,
             bodies_start: 10,
@@ -92,10 +109,7 @@ mod tests {
             mode: ExecutionMode::Parallel,
             threads: 2,
             update_ns,
-            gravity_ns,
-            integrate_ns: 0.0,
-            broad_phase_ns: 0.0,
-            response_ns: 0.0,
+            stage_ns,
         }
     }
 

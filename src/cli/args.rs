@@ -1,19 +1,23 @@
-//! Command-line arguments (DESIGN §5) — a stable contract.
+//! Command-line arguments (docs/design.md, "Command line") — a stable
+//! contract.
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::builder::RangedU64ValueParser;
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::resources::{ExecutionMode, MAX_THREADS};
+use crate::execution::{ExecutionMode, MAX_THREADS};
 
 /// Thousands of bodies orbiting a planet: colliding, bouncing, shattering.
 #[derive(Debug, Parser)]
 #[command(name = "kessler", version, about, long_about = None)]
 pub struct Cli {
+    /// What to do; `run` if omitted.
     #[command(subcommand)]
     pub command: Option<Command>,
 }
 
+/// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Open the interactive window (the default command).
@@ -24,15 +28,18 @@ pub enum Command {
     Pairs {
         /// Scenario file (RON).
         scenario: PathBuf,
+        /// How the sweep executes.
         #[command(flatten)]
         execution: ExecutionArgs,
     },
     /// Measure the runs of a benchmark config; write CSV results, an overhead
-    /// report and an SVG plot beside them (never over existing files).
+    /// report and a plot (SVG and PNG) beside them (never over existing
+    /// files).
     Bench {
         /// Benchmark config (RON), e.g. benches/thesis.ron.
         config: PathBuf,
-        /// Results CSV; `<stem>-overhead.csv` and `<stem>.svg` go beside it.
+        /// Results CSV; `<stem>-overhead.csv`, `<stem>.svg` and `<stem>.png`
+        /// go beside it.
         #[arg(long, value_name = "FILE", default_value = "results.csv")]
         out: PathBuf,
     },
@@ -47,11 +54,33 @@ pub enum Command {
 #[derive(Debug, Clone, Args)]
 pub struct ExecutionArgs {
     /// Sequential or parallel stages.
-    #[arg(long, value_enum, default_value_t = ExecutionMode::Parallel)]
-    pub mode: ExecutionMode,
+    #[arg(long, value_enum, default_value_t = ModeArg::Parallel)]
+    pub mode: ModeArg,
     /// Worker threads in parallel mode [default: all hardware threads].
-    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=MAX_THREADS as i64), allow_negative_numbers = true)]
-    pub threads: Option<u16>,
+    #[arg(
+        long,
+        value_parser = RangedU64ValueParser::<usize>::new().range(1..=MAX_THREADS as u64),
+        allow_negative_numbers = true
+    )]
+    pub threads: Option<usize>,
+}
+
+/// `--mode` on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// Every stage on one thread.
+    Sequential,
+    /// Stages split over a pool of worker threads.
+    Parallel,
+}
+
+impl From<ModeArg> for ExecutionMode {
+    fn from(mode: ModeArg) -> Self {
+        match mode {
+            ModeArg::Sequential => Self::Sequential,
+            ModeArg::Parallel => Self::Parallel,
+        }
+    }
 }
 
 /// How the window runs; everything but the scenario is optional.
@@ -80,8 +109,8 @@ pub struct RunArgs {
     pub paused: bool,
 }
 
-/// Drawing method on the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+/// `--render` on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum RenderArg {
     /// All cubes in one instanced draw.
     Instanced,
@@ -89,6 +118,7 @@ pub enum RenderArg {
     Meshes,
 }
 
+/// `kessler headless`.
 #[derive(Debug, Clone, Args)]
 pub struct HeadlessArgs {
     /// Scenario file (RON).
@@ -96,6 +126,7 @@ pub struct HeadlessArgs {
     /// Number of simulation updates.
     #[arg(long, allow_negative_numbers = true)]
     pub steps: u64,
+    /// How the simulation executes.
     #[command(flatten)]
     pub execution: ExecutionArgs,
     /// Write the final state as CSV (`id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts`).

@@ -5,52 +5,39 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::{ExecutionArgs, Failure, HeadlessArgs, load_scenario};
+use super::{ExecutionArgs, Failure, HeadlessArgs};
 use crate::Simulation;
 use crate::dump;
-use crate::resources::{Execution, available_threads};
+use crate::execution::{Execution, available_threads};
+use crate::output::{check_replaceable, write_atomically};
 use crate::scenario::Scenario;
 use crate::systems::SimulationSystems;
 
 /// Makes the execution the arguments ask for.
 pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
-    let threads = args.threads.map_or_else(available_threads, usize::from);
-    Execution::new(args.mode, threads).map_err(|e| Failure::input(format!("--threads: {e}")))
+    let threads = args.threads.unwrap_or_else(available_threads);
+    Execution::new(args.mode.into(), threads).map_err(|e| Failure::from(e).context("--threads"))
 }
 
-/// Checks, before any work, that `path` can be written as a dump.
-fn check_dump_path(path: &Path) -> Result<(), Failure> {
-    if path.is_dir() {
-        return Err(Failure::input(format!("--dump {}: is a directory", path.display())));
-    }
-    super::check_output_folder("--dump", path)
-}
-
+/// Runs the command.
 pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
-    let (scenario, origin) = load_scenario(Some(&args.scenario))?;
+    let scenario = Scenario::load(&args.scenario)?;
     if let Some(path) = &args.dump {
-        check_dump_path(path)?;
+        check_replaceable("--dump", path)?;
     }
-    simulate(
-        &scenario,
-        &origin,
-        execution(&args.execution)?,
-        args.steps,
-        args.dump.as_deref(),
-    )
+    simulate(&scenario, execution(&args.execution)?, args.steps, args.dump.as_deref())
 }
 
 /// Runs `updates` updates of `scenario` with a progress bar on a terminal,
 /// prints a one-line summary, and writes the dump if asked.
 pub fn simulate(
     scenario: &Scenario,
-    origin: &str,
     execution: Execution,
     updates: u64,
     dump_path: Option<&Path>,
 ) -> Result<(), Failure> {
-    let (mode, threads) = (execution.mode(), execution.threads());
-    let mut sim = Simulation::from_scenario(scenario, origin, execution).map_err(Failure::input)?;
+    let (mode, threads) = (execution.mode(), execution.threads_used());
+    let mut sim = Simulation::from_scenario(scenario, execution)?;
     let bodies_start = sim.body_count();
 
     let progress = ProgressBar::new(updates).with_style(
@@ -65,10 +52,7 @@ pub fn simulate(
 
     if let Some(path) = dump_path {
         let bodies = sim.snapshot();
-        dump::write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure {
-            message: format!("--dump {}: {e}", path.display()),
-            code: 1,
-        })?;
+        write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure::from(e).context("--dump"))?;
     }
     let per_update_ms = if updates == 0 {
         0.0

@@ -4,15 +4,15 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use super::headless::execution;
-use super::{ExecutionArgs, Failure, load_scenario};
+use super::{ExecutionArgs, Failure};
 use crate::components::BodyId;
+use crate::scenario::Scenario;
 use crate::systems::{Aabb, SweepScratch, id_pairs, sweep_and_prune};
 
 /// Prints `a,b` and then one line per overlapping pair, lower id first,
 /// sorted.
 pub fn pairs(path: &Path, args: &ExecutionArgs) -> Result<(), Failure> {
-    let (scenario, origin) = load_scenario(Some(path))?;
-    let bodies = scenario.bodies(&origin).map_err(Failure::input)?;
+    let bodies = Scenario::load(path)?.bodies()?;
     let boxes: Vec<Aabb> = bodies.iter().map(|b| Aabb::new(b.position, b.half_extents)).collect();
     let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();
     let found = sweep_and_prune(boxes.as_slice(), &execution(args)?, &mut SweepScratch::default());
@@ -24,8 +24,5 @@ pub fn pairs(path: &Path, args: &ExecutionArgs) -> Result<(), Failure> {
         }
         out.flush()
     })();
-    written.map_err(|e| Failure {
-        message: format!("writing the pairs: {e}"),
-        code: 1,
-    })
+    written.map_err(|e| Failure::other(format!("writing the pairs: {e}")))
 }

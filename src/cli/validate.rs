@@ -2,12 +2,18 @@
 
 use std::path::Path;
 
-use super::{Failure, load_scenario};
+use super::Failure;
+use crate::scenario::Scenario;
 
 /// Checks the file and every body it generates; prints a one-line verdict.
 pub fn validate(path: &Path) -> Result<(), Failure> {
-    let (scenario, origin) = load_scenario(Some(path))?;
-    let bodies = scenario.bodies(&origin).map_err(Failure::input)?;
-    println!("{origin}: ok — \"{}\", {} bodies", scenario.name, bodies.len());
+    let scenario = Scenario::load(path)?;
+    let bodies = scenario.bodies()?;
+    println!(
+        "{}: ok — \"{}\", {} bodies",
+        scenario.origin,
+        scenario.name,
+        bodies.len()
+    );
     Ok(())
 }

@@ -1,4 +1,5 @@
-//! The components that make an entity a simulated body (DESIGN §1).
+//! The components that make an entity a simulated body (docs/design.md,
+//! "The world").
 //!
 //! Units are the scenario's own: lengths in "units", time in "steps" scaled by
 //! the scenario's `time_step`, mass in "mass units". A body's position is its
@@ -6,6 +7,18 @@
 //! `GlobalTransform` and a `TransformTreeChanged`, about 128 bytes per body
 //! with change ticks, where the simulation needs 12 (see ARCHITECTURE.md,
 //! "Memory").
+//!
+//! # Change detection
+//!
+//! One rule, everywhere: the motion components — [`Position`],
+//! [`PreviousPosition`] and [`Velocity`] — are rewritten by the stages every
+//! update and are **never marked changed** (the stages write them through
+//! `bypass_change_detection`). Marking them would cost a tick write per body
+//! per update and tell a reader nothing: every body moves every update. So
+//! `Changed<Position>` and its kin never fire for a body; a reader that needs
+//! to know whether the bodies moved compares the update count instead (the
+//! window's instance upload does). The other components are set when a body
+//! is spawned and never written afterwards; `Added<BodyId>` finds new bodies.
 
 use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -15,11 +28,12 @@ use serde::{Deserialize, Serialize};
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct BodyId(pub u64);
 
-/// Linear velocity in units per unit of time.
-/// Where the centre of the body's box is, in length units.
+/// Where the center of the body's box is, in length units. Never marked
+/// changed (see the module's change-detection rule).
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct Position(pub Vec3);
 
+/// Linear velocity in length units per unit of time. Never marked changed.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct Velocity(pub Vec3);
 
@@ -34,6 +48,7 @@ pub struct HalfExtents(pub Vec3);
 
 /// Position before the last integration step, in units. The collision
 /// response uses it to find the axes on which two boxes were still apart.
+/// Never marked changed.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct PreviousPosition(pub Vec3);
 
@@ -78,69 +93,6 @@ impl GravityRole {
 /// adopter, and its own velocity still moves it (a moving wall).
 #[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Interacts(pub bool);
-
-/// Everything a body is made of, in one bundle.
-#[derive(Bundle, Clone, Debug)]
-pub struct BodyBundle {
-    pub id: BodyId,
-    pub position: Position,
-    pub previous_position: PreviousPosition,
-    pub velocity: Velocity,
-    pub mass: Mass,
-    pub half_extents: HalfExtents,
-    pub role: GravityRole,
-    pub interacts: Interacts,
-}
-
-/// A body's state as plain data: what scenarios create, fragments are born
-/// as, and dumps print.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BodyState {
-    pub id: BodyId,
-    pub position: Vec3,
-    pub velocity: Vec3,
-    pub mass: f32,
-    pub half_extents: Vec3,
-    pub role: GravityRole,
-    pub interacts: bool,
-}
-
-impl BodyState {
-    /// A body's state from its components.
-    pub fn from_components(
-        id: &BodyId,
-        position: &Position,
-        velocity: &Velocity,
-        mass: &Mass,
-        half_extents: &HalfExtents,
-        role: &GravityRole,
-        interacts: &Interacts,
-    ) -> Self {
-        Self {
-            id: *id,
-            position: position.0,
-            velocity: velocity.0,
-            mass: mass.0,
-            half_extents: half_extents.0,
-            role: *role,
-            interacts: interacts.0,
-        }
-    }
-
-    /// The bundle that spawns this body, at rest in its own previous position.
-    pub fn bundle(&self) -> BodyBundle {
-        BodyBundle {
-            id: self.id,
-            position: Position(self.position),
-            previous_position: PreviousPosition(self.position),
-            velocity: Velocity(self.velocity),
-            mass: Mass(self.mass),
-            half_extents: HalfExtents(self.half_extents),
-            role: self.role,
-            interacts: Interacts(self.interacts),
-        }
-    }
-}
 
 #[cfg(test)]
 mod tests {

@@ -25,18 +25,24 @@ pub struct SimulationSettings {
     pub collision_response: bool,
 }
 
+impl SimulationSettings {
+    /// The thesis's physics with every stage on: the defaults of scenario
+    /// files and of the window's settings.
+    pub const DEFAULT: Self = Self {
+        gravitational_constant: 6.674,
+        time_step: 1.0,
+        softening: 0.0,
+        shatter_threshold: 3.0,
+        shatter_fragments: 5,
+        seed: 1,
+        gravity: true,
+        collisions: true,
+        collision_response: true,
+    };
+}
+
 impl Default for SimulationSettings {
     fn default() -> Self {
-        Self {
-            gravitational_constant: 6.674,
-            time_step: 1.0,
-            softening: 0.0,
-            shatter_threshold: 3.0,
-            shatter_fragments: 5,
-            seed: 1,
-            gravity: true,
-            collisions: true,
-            collision_response: true,
-        }
+        Self::DEFAULT
     }
 }

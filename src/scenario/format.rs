@@ -1,5 +1,5 @@
-//! The scenario file format (DESIGN §4) — a stable contract: field names and
-//! defaults must not change.
+//! The scenario file format (docs/design.md, "Scenario files") — a stable
+//! contract: field names and defaults must not change.
 
 use serde::Deserialize;
 
@@ -10,31 +10,43 @@ use crate::components::GravityRole;
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Scenario")]
 pub struct Scenario {
+    /// Where the scenario was read from, for messages (not part of the file).
+    #[serde(skip)]
+    pub origin: String,
+    /// Shown in summaries and plot titles.
     #[serde(default = "defaults::name")]
     pub name: String,
+    /// `G`; default 6.674 (the thesis).
     #[serde(
         default = "defaults::gravitational_constant",
         deserialize_with = "checked::gravitational_constant"
     )]
     pub gravitational_constant: f32,
+    /// Simulated time per update; default 1.
     #[serde(default = "defaults::time_step", deserialize_with = "checked::time_step")]
     pub time_step: f32,
-    #[serde(default, deserialize_with = "checked::softening")]
+    /// Gravity's softening length `ε`; default 0.
+    #[serde(default = "defaults::softening", deserialize_with = "checked::softening")]
     pub softening: f32,
+    /// Impact speed from which two interacting bodies shatter; default 3.
     #[serde(
         default = "defaults::shatter_threshold",
         deserialize_with = "checked::shatter_threshold"
     )]
     pub shatter_threshold: f32,
+    /// Fragments per shatter, 2 to 1000; default 5.
     #[serde(
         default = "defaults::shatter_fragments",
         deserialize_with = "checked::shatter_fragments"
     )]
     pub shatter_fragments: u32,
+    /// Seed of the generators and of the fragments' spread; default 1.
     #[serde(default = "defaults::seed")]
     pub seed: u64,
+    /// Explicitly placed bodies, ids 0, 1, 2… in file order.
     #[serde(default)]
     pub bodies: Vec<Body>,
+    /// Seeded random bodies, ids after the explicit ones.
     #[serde(default)]
     pub generators: Vec<Generator>,
 }
@@ -43,16 +55,22 @@ pub struct Scenario {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Body")]
 pub struct Body {
+    /// Center of the box; required.
     #[serde(deserialize_with = "checked::position")]
     pub position: [f32; 3],
+    /// Default (0, 0, 0).
     #[serde(default, deserialize_with = "checked::velocity")]
     pub velocity: [f32; 3],
+    /// Default (1, 1, 1): a unit cube, edge 2.
     #[serde(default = "defaults::half_extents", deserialize_with = "checked::half_extents")]
     pub half_extents: [f32; 3],
+    /// Default 1.
     #[serde(default = "defaults::mass", deserialize_with = "checked::mass")]
     pub mass: f32,
+    /// Default `Adopter`.
     #[serde(default)]
     pub role: GravityRole,
+    /// Default true; false makes an immovable collider.
     #[serde(default = "defaults::interacts")]
     pub interacts: bool,
 }
@@ -72,13 +90,16 @@ pub enum Generator {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Cloud {
+    /// Bodies to make.
     #[serde(deserialize_with = "checked::count")]
     pub count: u64,
+    /// Center of the box that positions are drawn from.
     #[serde(deserialize_with = "checked::center")]
     pub center: [f32; 3],
     /// Half the size of the box that positions are drawn from.
     #[serde(deserialize_with = "checked::half_size")]
     pub half_size: [f32; 3],
+    /// Velocity components are uniform in `[-max_speed, max_speed)`.
     #[serde(default, deserialize_with = "checked::max_speed")]
     pub max_speed: f32,
     /// What each generated body is made of (default: unit cube, mass 1, adopter).
@@ -90,12 +111,15 @@ pub struct Cloud {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Shell {
+    /// Bodies to make.
     #[serde(deserialize_with = "checked::count")]
     pub count: u64,
     /// Index (in `bodies`) of the source to orbit.
     pub around: usize,
+    /// Smallest orbit radius.
     #[serde(deserialize_with = "checked::inner_radius")]
     pub inner_radius: f32,
+    /// Largest orbit radius, at least `inner_radius`.
     #[serde(deserialize_with = "checked::outer_radius")]
     pub outer_radius: f32,
     /// Largest tilt of an orbit plane from the source's equator (the x–z
@@ -117,12 +141,16 @@ pub struct Shell {
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Template {
+    /// As [`Body::half_extents`].
     #[serde(default = "defaults::half_extents", deserialize_with = "checked::half_extents")]
     pub half_extents: [f32; 3],
+    /// As [`Body::mass`].
     #[serde(default = "defaults::mass", deserialize_with = "checked::mass")]
     pub mass: f32,
+    /// As [`Body::role`].
     #[serde(default)]
     pub role: GravityRole,
+    /// As [`Body::interacts`].
     #[serde(default = "defaults::interacts")]
     pub interacts: bool,
 }
@@ -138,24 +166,33 @@ impl Default for Template {
     }
 }
 
+/// Defaults of omitted fields; the physics ones are
+/// [`SimulationSettings::DEFAULT`]'s.
 mod defaults {
+    use crate::resources::SimulationSettings;
+
+    const PHYSICS: SimulationSettings = SimulationSettings::DEFAULT;
+
     pub fn name() -> String {
         "Unnamed scenario".to_owned()
     }
     pub fn gravitational_constant() -> f32 {
-        6.674
+        PHYSICS.gravitational_constant
     }
     pub fn time_step() -> f32 {
-        1.0
+        PHYSICS.time_step
+    }
+    pub fn softening() -> f32 {
+        PHYSICS.softening
     }
     pub fn shatter_threshold() -> f32 {
-        3.0
+        PHYSICS.shatter_threshold
     }
     pub fn shatter_fragments() -> u32 {
-        5
+        PHYSICS.shatter_fragments
     }
     pub fn seed() -> u64 {
-        1
+        PHYSICS.seed
     }
     pub fn half_extents() -> [f32; 3] {
         [1.0; 3]

@@ -31,6 +31,14 @@ fn inside_obstacle(p: DVec3, half: DVec3, obstacles: &[Body]) -> bool {
     })
 }
 
+/// A cloud's body could not be placed outside the non-interacting bodies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("no free space for body {body}: {PLACEMENT_TRIES} random positions all fell inside non-interacting bodies")]
+pub struct NoFreeSpace {
+    /// Index of the body within its generator.
+    pub body: u64,
+}
+
 /// Appends `cloud.count` bodies with ids from `first_id`. Errors when a body
 /// cannot be placed outside the non-interacting bodies.
 pub fn cloud(
@@ -39,7 +47,7 @@ pub fn cloud(
     first_id: u64,
     obstacles: &[Body],
     out: &mut Vec<BodyState>,
-) -> Result<(), String> {
+) -> Result<(), NoFreeSpace> {
     let center = DVec3::from_array(cloud.center.map(f64::from));
     let half_size = DVec3::from_array(cloud.half_size.map(f64::from));
     let half = DVec3::from_array(cloud.body.half_extents.map(f64::from));
@@ -53,9 +61,7 @@ pub fn cloud(
             }
             tries += 1;
             if tries == PLACEMENT_TRIES {
-                return Err(format!(
-                    "no free space for body {i}: {PLACEMENT_TRIES} random positions all fell inside non-interacting bodies"
-                ));
+                return Err(NoFreeSpace { body: i });
             }
         };
         let velocity = DVec3::new(rng.symmetric(speed), rng.symmetric(speed), rng.symmetric(speed));
@@ -74,8 +80,8 @@ pub fn shell(
     gravitational_constant: f32,
     out: &mut Vec<BodyState>,
 ) {
-    let centre = DVec3::from_array(source.position.map(f64::from));
-    let centre_velocity = DVec3::from_array(source.velocity.map(f64::from));
+    let center = DVec3::from_array(source.position.map(f64::from));
+    let center_velocity = DVec3::from_array(source.velocity.map(f64::from));
     let gm = f64::from(gravitational_constant) * f64::from(source.mass);
     let (r_in, r_out) = (f64::from(shell.inner_radius), f64::from(shell.outer_radius));
     let max_tilt = f64::from(shell.inclination).to_radians();
@@ -92,8 +98,8 @@ pub fn shell(
         if rng.unit() < f64::from(shell.retrograde_fraction) {
             speed = -speed;
         }
-        let velocity = centre_velocity + normal.cross(radial) * speed;
-        out.push(body_state(first_id + i, centre + radial * r, velocity, &shell.body));
+        let velocity = center_velocity + normal.cross(radial) * speed;
+        out.push(body_state(first_id + i, center + radial * r, velocity, &shell.body));
     }
 }
 

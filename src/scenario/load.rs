@@ -1,125 +1,82 @@
 //! Reading a scenario file and turning it into bodies, with errors that name
 //! the file, the line and the field.
 
-use std::fmt;
 use std::path::Path;
 
 use bevy::math::Vec3;
 use ron::extensions::Extensions;
 
 use super::checked::MAX_BODIES;
-use super::format::{Generator, Scenario};
+use super::format::{Generator, Scenario, Shell};
 use super::generators;
 use crate::components::{BodyId, BodyState};
+use crate::input::{InputError, parse_ron, read_text};
 use crate::resources::SimulationSettings;
 use crate::rng::Rng;
 
-/// Why a scenario could not be used.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ScenarioError {
-    /// The file (or built-in scenario) the error is in.
-    pub origin: String,
-    /// 1-based line and column, where the parser knows them.
-    pub location: Option<(usize, usize)>,
-    pub message: String,
-}
-
-impl fmt::Display for ScenarioError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.location {
-            Some((line, col)) => write!(f, "{}:{line}:{col}: {}", self.origin, self.message),
-            None => write!(f, "{}: {}", self.origin, self.message),
-        }
-    }
-}
-
-impl std::error::Error for ScenarioError {}
-
-impl ScenarioError {
-    fn new(origin: &str, message: impl Into<String>) -> Self {
-        Self {
-            origin: origin.to_owned(),
-            location: None,
-            message: message.into(),
-        }
-    }
-}
-
 impl Scenario {
-    /// Parses RON text; `origin` names it in errors (usually the path).
-    pub fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
-        let options = ron::Options::default().with_default_extension(Extensions::UNWRAP_VARIANT_NEWTYPES);
-        let scenario: Self = options.from_str(text).map_err(|e| ScenarioError {
-            origin: origin.to_owned(),
-            location: Some((e.span.start.line, e.span.start.col)),
-            message: e.code.to_string(),
-        })?;
-        scenario.check(origin)?;
+    /// Parses RON text; `origin` names it in errors (usually the path) and
+    /// becomes [`Scenario::origin`].
+    pub fn parse(text: &str, origin: &str) -> Result<Self, InputError> {
+        let mut scenario: Self = parse_ron(text, origin, Extensions::UNWRAP_VARIANT_NEWTYPES)?;
+        scenario.origin = origin.to_owned();
+        scenario.check()?;
         Ok(scenario)
     }
 
     /// Reads and parses a scenario file.
-    pub fn load(path: &Path) -> Result<Self, ScenarioError> {
-        let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| ScenarioError::new(&origin, format!("cannot read the file: {e}")))?;
-        Self::parse(&text, &origin)
+    pub fn load(path: &Path) -> Result<Self, InputError> {
+        Self::parse(&read_text(path)?, &path.display().to_string())
     }
 
     /// Checks that span several fields (the parser has checked each value).
-    fn check(&self, origin: &str) -> Result<(), ScenarioError> {
+    fn check(&self) -> Result<(), InputError> {
         for (i, generator) in self.generators.iter().enumerate() {
-            let field = |name: &str| format!("generators[{i}].{name}");
-            match generator {
-                Generator::Cloud(_) => {}
-                Generator::Shell(s) => {
-                    if s.inner_radius > s.outer_radius {
-                        return Err(ScenarioError::new(
-                            origin,
-                            format!(
-                                "field `{}`: must be at least inner_radius ({}), got {}",
-                                field("outer_radius"),
-                                s.inner_radius,
-                                s.outer_radius
-                            ),
-                        ));
-                    }
-                    match self.bodies.get(s.around) {
-                        None => {
-                            return Err(ScenarioError::new(
-                                origin,
-                                format!(
-                                    "field `{}`: there is no body {} to orbit (the scenario has {} explicit bodies)",
-                                    field("around"),
-                                    s.around,
-                                    self.bodies.len()
-                                ),
-                            ));
-                        }
-                        Some(b) if !b.role.is_source() => {
-                            return Err(ScenarioError::new(
-                                origin,
-                                format!(
-                                    "field `{}`: body {} has role {:?}, which attracts nothing; orbit a Source or SourceAndAdopter",
-                                    field("around"),
-                                    s.around,
-                                    b.role
-                                ),
-                            ));
-                        }
-                        Some(_) => {}
-                    }
-                }
+            if let Generator::Shell(shell) = generator {
+                self.check_shell(shell).map_err(|(field, problem)| {
+                    InputError::new(&self.origin, format!("field `generators[{i}].{field}`: {problem}"))
+                })?;
             }
         }
         let total = self.body_count();
         if total > MAX_BODIES {
-            return Err(ScenarioError::new(
-                origin,
+            return Err(InputError::new(
+                &self.origin,
                 format!("field `generators`: {total} bodies in all would not fit in memory (at most {MAX_BODIES})"),
             ));
         }
         Ok(())
+    }
+
+    /// A shell's radii and source: the field at fault and the problem.
+    fn check_shell(&self, shell: &Shell) -> Result<(), (&'static str, String)> {
+        if shell.inner_radius > shell.outer_radius {
+            return Err((
+                "outer_radius",
+                format!(
+                    "must be at least inner_radius ({}), got {}",
+                    shell.inner_radius, shell.outer_radius
+                ),
+            ));
+        }
+        match self.bodies.get(shell.around) {
+            None => Err((
+                "around",
+                format!(
+                    "there is no body {} to orbit (the scenario has {} explicit bodies)",
+                    shell.around,
+                    self.bodies.len()
+                ),
+            )),
+            Some(b) if !b.role.is_source() => Err((
+                "around",
+                format!(
+                    "body {} has role {:?}, which attracts nothing; orbit a Source or SourceAndAdopter",
+                    shell.around, b.role
+                ),
+            )),
+            Some(_) => Ok(()),
+        }
     }
 
     /// The simulation settings this scenario asks for (all stages on).
@@ -142,8 +99,8 @@ impl Scenario {
     }
 
     /// All bodies: explicit ones with ids 0, 1, 2… in file order, then the
-    /// generated ones. `origin` names the scenario in errors.
-    pub fn bodies(&self, origin: &str) -> Result<Vec<BodyState>, ScenarioError> {
+    /// generated ones.
+    pub fn bodies(&self) -> Result<Vec<BodyState>, InputError> {
         let mut out = Vec::with_capacity(usize::try_from(self.body_count()).unwrap_or(0));
         out.extend(self.bodies.iter().enumerate().map(|(i, b)| BodyState {
             id: BodyId(i as u64),
@@ -159,7 +116,7 @@ impl Scenario {
             let first_id = out.len() as u64;
             match generator {
                 Generator::Cloud(c) => generators::cloud(c, &mut rng, first_id, &self.bodies, &mut out)
-                    .map_err(|e| ScenarioError::new(origin, format!("generators[{i}] (Cloud): {e}")))?,
+                    .map_err(|e| InputError::new(&self.origin, format!("generators[{i}] (Cloud): {e}")))?,
                 Generator::Shell(s) => {
                     // `check` made sure the source exists.
                     generators::shell(
@@ -197,7 +154,7 @@ mod tests {
         .unwrap();
         assert_eq!((s.gravitational_constant, s.time_step, s.softening), (6.674, 1.0, 0.0));
         assert_eq!((s.shatter_threshold, s.shatter_fragments, s.seed), (3.0, 5, 1));
-        let bodies = s.bodies("example").unwrap();
+        let bodies = s.bodies().unwrap();
         assert_eq!(bodies.len(), 2);
         let b = bodies[1];
         assert_eq!(
@@ -225,12 +182,12 @@ mod tests {
             Cloud(count: 30, center: (0,0,0), half_size: (100,100,100), body: (mass: 2.0)),
         ])";
         let s = Scenario::parse(text, "t").unwrap();
-        let a = s.bodies("t").unwrap();
+        let a = s.bodies().unwrap();
         assert_eq!(a.len(), 51);
         assert!(a.iter().enumerate().all(|(i, b)| b.id == BodyId(i as u64)));
         assert_eq!(a[50].mass, 2.0);
-        assert_eq!(a, s.bodies("t").unwrap());
-        let other = Scenario { seed: 5, ..s }.bodies("t").unwrap();
+        assert_eq!(a, s.bodies().unwrap());
+        let other = Scenario { seed: 5, ..s }.bodies().unwrap();
         assert_ne!(a[1].position, other[1].position);
     }
 }

@@ -1,22 +1,14 @@
-//! Scenario files (DESIGN §4): format, checks, generators and loading.
+//! Scenario files (docs/design.md, "Scenario files"): the format, its
+//! checks, the generators, loading, and the built-in scenes.
 
+mod builtin;
 pub mod checked;
 mod format;
 pub mod generators;
 mod load;
 mod scale;
 
+pub use builtin::*;
+pub use checked::{MAX_BODIES, MAX_FRAGMENTS};
 pub use format::*;
-pub use load::*;
-
-/// The scenario used when none is given: a debris field in orbit.
-pub const DEFAULT_SCENARIO: &str = include_str!("../../scenarios/debris_orbit.ron");
-
-/// Name of [`DEFAULT_SCENARIO`] in messages.
-pub const DEFAULT_SCENARIO_NAME: &str = "scenarios/debris_orbit.ron (built in)";
-
-/// The thesis scene, the default of benchmark configs.
-pub const THESIS_SCENARIO: &str = include_str!("../../scenarios/thesis_cloud.ron");
-
-/// Name of [`THESIS_SCENARIO`] in messages.
-pub const THESIS_SCENARIO_NAME: &str = "scenarios/thesis_cloud.ron (built in)";
+pub use scale::NoGenerators;

@@ -2,15 +2,25 @@
 
 use super::format::{Generator, Scenario};
 
+/// A scenario without generators cannot be resized.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{origin}: has no generators, so its body count cannot be changed")]
+pub struct NoGenerators {
+    /// The scenario's origin.
+    pub origin: String,
+}
+
 impl Scenario {
     /// This scenario with `count` generated bodies in all, shared among its
     /// generators in proportion to their counts (the rest to the last one).
-    /// Explicit bodies stay. `None` if it has no generator to scale.
-    pub fn with_generated(&self, count: u64) -> Option<Scenario> {
+    /// Explicit bodies stay.
+    pub fn with_generated(&self, count: u64) -> Result<Scenario, NoGenerators> {
         let counts: Vec<u64> = self.generators.iter().map(Generator::count).collect();
         let total: u64 = counts.iter().sum();
         if counts.is_empty() {
-            return None;
+            return Err(NoGenerators {
+                origin: self.origin.clone(),
+            });
         }
         let mut scaled = self.clone();
         let mut given = 0;
@@ -26,7 +36,7 @@ impl Scenario {
             given += share;
             *generator.count_mut() = share;
         }
-        Some(scaled)
+        Ok(scaled)
     }
 }
 
@@ -70,6 +80,10 @@ mod tests {
             generators: vec![],
             ..s
         };
-        assert_eq!(empty.with_generated(5), None);
+        let error = empty.with_generated(5).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "t: has no generators, so its body count cannot be changed"
+        );
     }
 }

@@ -1,5 +1,6 @@
-//! Stage 1: gravitational acceleration of every adopter (DESIGN §2.1),
-//! applied at once as the first half of the semi-implicit Euler step.
+//! Stage 1: gravitational acceleration of every adopter, applied at once
+//! as the first half of the semi-implicit Euler step (docs/design.md,
+//! "Gravity").
 //!
 //! `a_i = Σ_j G·m_j·(p_j − p_i) / (|p_j − p_i|² + ε²)^{3/2}` over all sources
 //! `j ≠ i` at non-zero distance, summed in f64 in ascending `BodyId` order.
@@ -16,13 +17,16 @@ use bevy::math::DVec3;
 use bevy::prelude::*;
 
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
-use crate::resources::{Execution, SimulationSettings, StageTimings};
-use crate::systems::{SimulationSystems, SimulationUpdate};
+use crate::execution::Execution;
+use crate::resources::SimulationSettings;
+use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
 
 /// A body that attracts others, as the kernel sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GravitySource {
+    /// The source's id (a body does not pull itself).
     pub id: BodyId,
+    /// Where it is, in f64.
     pub position: DVec3,
     /// `G·m`.
     pub gm: f64,
@@ -98,7 +102,7 @@ pub fn collect_sources<'a>(
     out.clear();
     for (ids, positions, masses, roles) in tables {
         // Blocks without a source are skipped by a branch-free test that
-        // the compiler vectorises: a million roles take microseconds.
+        // the compiler vectorizes: a million roles take microseconds.
         for (block, block_roles) in roles.chunks(SCAN_BLOCK).enumerate() {
             if !block_roles.iter().fold(false, |any, role| any | role.is_source()) {
                 continue;

@@ -1,4 +1,4 @@
-//! Stage 2: semi-implicit Euler integration (DESIGN §2.2).
+//! Stage 2: semi-implicit Euler integration (docs/design.md, "Integration").
 //!
 //! Adopters have already taken their kick `v += a·dt` in the gravity stage
 //! (so no acceleration is stored); here every body moves `p += v·dt`, the
@@ -10,8 +10,9 @@ use std::time::Instant;
 use bevy::prelude::*;
 
 use crate::components::{Position, PreviousPosition, Velocity};
-use crate::resources::{Execution, SimulationSettings, StageTimings};
-use crate::systems::{SimulationSystems, SimulationUpdate};
+use crate::execution::Execution;
+use crate::resources::SimulationSettings;
+use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
 
 /// The columns the integration kernel reads and writes.
 pub type IntegrateColumns<'a> = (&'a [Velocity], &'a mut [Position], &'a mut [PreviousPosition]);

@@ -1,33 +1,24 @@
-//! The simulation stages, one plugin per stage, and the schedule that orders
-//! them.
+//! The simulation stages, one plugin per stage; the stage list and the
+//! schedule that orders them.
 
 mod broad_phase;
+mod contact;
 mod gravity;
 mod integrate;
+mod plugins;
 mod response;
 mod schedule;
 mod shatter;
+mod stages;
+mod timings;
 
 pub use broad_phase::*;
+pub use contact::*;
 pub use gravity::*;
 pub use integrate::*;
+pub use plugins::*;
 pub use response::*;
 pub use schedule::*;
 pub use shatter::*;
-
-use bevy::app::{PluginGroup, PluginGroupBuilder};
-
-/// Every simulation stage and the schedule they run in.
-pub struct SimulationPlugins;
-
-impl PluginGroup for SimulationPlugins {
-    fn build(self) -> PluginGroupBuilder {
-        PluginGroupBuilder::start::<Self>()
-            .add(SchedulePlugin)
-            .add(GravityPlugin)
-            .add(IntegratePlugin)
-            .add(BroadPhasePlugin)
-            .add(ResponsePlugin)
-            .add(ShatterPlugin)
-    }
-}
+pub use stages::*;
+pub use timings::*;

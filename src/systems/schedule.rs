@@ -1,55 +1,19 @@
-//! The simulation update: its schedule, its stage order, and the driver
-//! that runs it a number of times.
+//! The simulation update: its schedule, the stage order, and the driver that
+//! runs it a number of times.
 
 use std::time::Instant;
 
-use bevy::ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
+use bevy::ecs::schedule::{LogLevel, ScheduleBuildSettings, ScheduleLabel, SingleThreadedExecutor};
 use bevy::prelude::*;
 
-use crate::resources::{Execution, NextBodyId, SimulationSettings, StageTimings};
+use super::{SimulationSystems, StageTimings};
+use crate::execution::Execution;
+use crate::resources::{NextBodyId, SimulationSettings};
 
 /// One fixed simulation update. Run it with [`run_updates`] (headless) or
-/// from a frame-rate independent clock (the app).
+/// from a frame-rate independent clock (the window).
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SimulationUpdate;
-
-/// The stages of one update (DESIGN §2), in the order they run.
-#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SimulationSystems {
-    /// Accelerations of adopters from all sources, applied as the velocity
-    /// kick `v += a·dt` of the semi-implicit Euler step.
-    Gravity,
-    /// The drift `p += v·dt` of the semi-implicit Euler step.
-    Integrate,
-    /// Sweep and prune: the overlapping pairs.
-    BroadPhase,
-    /// Bounce and push-back of colliding pairs.
-    Response,
-    /// Removal of shattered pairs and spawning of their fragments.
-    Shatter,
-}
-
-impl SimulationSystems {
-    /// Every stage, in update order.
-    pub const ALL: [Self; 5] = [
-        Self::Gravity,
-        Self::Integrate,
-        Self::BroadPhase,
-        Self::Response,
-        Self::Shatter,
-    ];
-
-    /// Short lower-case name (CSV columns, HUD).
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Gravity => "gravity",
-            Self::Integrate => "integrate",
-            Self::BroadPhase => "broad_phase",
-            Self::Response => "response",
-            Self::Shatter => "shatter",
-        }
-    }
-}
 
 /// Creates the [`SimulationUpdate`] schedule with its stage order, and the
 /// resources every stage shares. Stage plugins add their systems to the sets.
@@ -60,17 +24,16 @@ impl Plugin for SchedulePlugin {
         let mut schedule = Schedule::new(SimulationUpdate);
         // The stages are a chain; parallelism lives inside each stage.
         schedule.set_executor(SingleThreadedExecutor::new());
-        // The one place where the stage order is written.
-        schedule.configure_sets(
-            (
-                SimulationSystems::Gravity,
-                SimulationSystems::Integrate,
-                SimulationSystems::BroadPhase,
-                SimulationSystems::Response,
-                SimulationSystems::Shatter,
-            )
-                .chain(),
-        );
+        // Two systems touching the same data in no defined order would make
+        // the result depend on the schedule's whims: refuse to build.
+        schedule.set_build_settings(ScheduleBuildSettings {
+            ambiguity_detection: LogLevel::Error,
+            ..default()
+        });
+        // The stage order, from the stage list.
+        for pair in SimulationSystems::ALL.windows(2) {
+            schedule.configure_sets(pair[0].before(pair[1]));
+        }
         app.add_schedule(schedule)
             .init_resource::<SimulationSettings>()
             .init_resource::<StageTimings>()
@@ -90,4 +53,38 @@ pub fn run_updates(world: &mut World, updates: u64) {
             world.resource_mut::<StageTimings>().update.record(start.elapsed());
         }
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::execution::ExecutionMode;
+    use crate::systems::SimulationPlugins;
+
+    fn simulation_app() -> App {
+        let mut app = App::new();
+        app.add_plugins((MinimalPlugins, SimulationPlugins))
+            .insert_resource(Execution::new(ExecutionMode::Sequential, 1).unwrap());
+        app
+    }
+
+    /// Whether the update schedule builds.
+    fn build(app: &mut App) -> bool {
+        let world = app.world_mut();
+        let mut schedule = world
+            .resource_mut::<Schedules>()
+            .remove(SimulationUpdate)
+            .expect("the schedule exists");
+        schedule.initialize(world).is_ok()
+    }
+
+    #[test]
+    fn the_stages_are_ordered_and_two_unordered_writers_are_refused() {
+        let mut app = simulation_app();
+        assert!(build(&mut app), "the stages' systems are unambiguous");
+        let mut app = simulation_app();
+        let touch = |mut pairs: ResMut<crate::systems::OverlappingPairs>| pairs.0.clear();
+        app.add_systems(SimulationUpdate, (touch, touch));
+        assert!(!build(&mut app), "ambiguity detection is off");
+    }
 }

@@ -1,9 +1,9 @@
-//! Stage 5: shattering (DESIGN §2.4) — pairs marked by the response are
-//! removed and replaced by fragments.
+//! Stage 5: shattering — pairs marked by the response are removed and
+//! replaced by fragments (docs/design.md, "Shatter").
 //!
 //! `c` fragments share the pair's mass equally, keep its total box volume
 //! (half-extent `l = ∛((h1x·h1y·h1z + h2x·h2y·h2z)/c)`) and its momentum: each
-//! starts at the centre of mass plus an offset, with the centre-of-mass
+//! starts at the center of mass plus an offset, with the center-of-mass
 //! velocity plus an outward spread whose mean is subtracted. Offsets are
 //! well-spread directions scaled so that no two fragments touch. The random
 //! rotation and speeds come from a stream keyed by the pair's ids, and
@@ -16,15 +16,15 @@ use bevy::math::{DQuat, DVec3};
 use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, GravityRole};
-use crate::resources::{NextBodyId, SimulationSettings, StageTimings};
+use crate::resources::{NextBodyId, SimulationSettings};
 use crate::rng::Rng;
-use crate::systems::{PendingShatters, SimulationSystems, SimulationUpdate};
+use crate::systems::{PendingShatters, SimulationSystems, SimulationUpdate, StageTimings};
 
-/// Spread speed of fragments relative to the centre of mass, as a share of
+/// Spread speed of fragments relative to the center of mass, as a share of
 /// the impact speed.
 pub const SPREAD: f64 = 0.2;
 
-/// Clearance between neighbouring fragments, as a share of their edge.
+/// Clearance between neighboring fragments, as a share of their edge.
 const CLEARANCE: f64 = 0.05;
 
 /// Replaces shattered pairs by fragments in [`SimulationSystems::Shatter`].
@@ -57,7 +57,7 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: 
     let count = count.max(2);
     let (m1, m2) = (f64::from(a.mass), f64::from(b.mass));
     let total = m1 + m2;
-    let centre = (a.position.as_dvec3() * m1 + b.position.as_dvec3() * m2) / total;
+    let center = (a.position.as_dvec3() * m1 + b.position.as_dvec3() * m2) / total;
     let velocity = (a.velocity.as_dvec3() * m1 + b.velocity.as_dvec3() * m2) / total;
     let volume = |h: Vec3| f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
     let half = ((volume(a.half_extents) + volume(b.half_extents)) / f64::from(count)).cbrt();
@@ -79,8 +79,8 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: 
             closest = closest.min((*p - *q).abs().max_element());
         }
     }
-    // Keep the clearance after rounding to f32: a few f32 steps at the centre.
-    let rounding = 4.0 * f64::from(f32::EPSILON) * centre.abs().max_element();
+    // Keep the clearance after rounding to f32: a few f32 steps at the center.
+    let rounding = 4.0 * f64::from(f32::EPSILON) * center.abs().max_element();
     let radius = (2.0 * half * (1.0 + CLEARANCE) + rounding) / closest;
     let spreads: Vec<DVec3> = directions
         .iter()
@@ -103,7 +103,7 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: 
         .enumerate()
         .map(|(i, (d, s))| BodyState {
             id: BodyId(first_id.0 + i as u64),
-            position: (centre + *d * radius).as_vec3(),
+            position: (center + *d * radius).as_vec3(),
             velocity: (velocity + *s - mean_spread).as_vec3(),
             mass: (total / f64::from(count)) as f32,
             half_extents: Vec3::splat(half as f32),

@@ -1,17 +1,8 @@
-//! Colours of the body cubes, and the per-frame gather of every body into
-//! the instance slot.
+//! Colors of the body cubes, and which bodies are drawn as spheres instead.
 
-use bevy::prelude::*;
+use crate::components::{GravityRole, Interacts};
 
-use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position, Velocity};
-use crate::systems::OverlappingPairs;
-
-use super::clock::UpdateClock;
-use super::instancing::{InstanceData, InstancedBodies};
-use super::sandbox::SandboxState;
-use super::settings::{RenderMethod, SandboxSettings};
-
-/// What a cube's colour shows.
+/// What a cube's color shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyLook {
     /// Speed divided by the field's mean speed.
@@ -22,12 +13,12 @@ pub struct BodyLook {
     pub colliding: bool,
 }
 
-/// Grey of every cube when visual effects are off.
+/// Gray of every cube when visual effects are off.
 pub const PLAIN: [u8; 4] = [200, 200, 205, 255];
 /// Colliding cubes flash white-hot.
 pub const COLLIDING: [u8; 4] = [255, 255, 230, 255];
 
-/// sRGB colour of a cube: plain grey without effects; else white when
+/// sRGB color of a cube: plain gray without effects; else white when
 /// colliding, and otherwise a ramp from cool blue (slow) through cyan to
 /// warm red (twice the mean speed and faster), pushed towards orange for
 /// fragments.
@@ -53,100 +44,6 @@ pub fn body_color(look: BodyLook, effects: bool) -> [u8; 4] {
 /// (the planet, moons).
 pub fn is_celestial(role: GravityRole, interacts: Interacts) -> bool {
     role.is_source() && !interacts.0
-}
-
-/// Buffers of [`gather_instances`], kept between frames.
-#[derive(Default)]
-pub struct GatherScratch {
-    staging: Vec<InstanceData>,
-    /// Indexed by entity index: in an overlapping pair this update.
-    colliding: Vec<bool>,
-    /// Mean cube speed of the previous frame (the colour ramp's scale).
-    mean_speed: f32,
-    /// (updates run, scene generation) of the last publish.
-    published: Option<(u64, u64)>,
-}
-
-/// The components a cube's instance is made of.
-type CubeQuery<'w, 's> = Query<
-    'w,
-    's,
-    (
-        Entity,
-        &'static BodyId,
-        &'static Position,
-        &'static HalfExtents,
-        &'static Velocity,
-        &'static GravityRole,
-        &'static Interacts,
-    ),
->;
-
-/// Packs every cube into the instance slot (instanced method, bodies shown);
-/// an empty slot otherwise.
-pub fn gather_instances(
-    bodies: CubeQuery,
-    instanced: Query<&InstancedBodies>,
-    pairs: Res<OverlappingPairs>,
-    settings: Res<SandboxSettings>,
-    state: Res<SandboxState>,
-    clock: Res<UpdateClock>,
-    mut scratch: Local<GatherScratch>,
-) {
-    let Some(InstancedBodies(slot)) = instanced.iter().next() else {
-        return;
-    };
-    // Unchanged bodies and settings: the GPU already has this picture.
-    let now = (clock.updates_total, state.generation);
-    if scratch.published == Some(now) && !settings.is_changed() {
-        return;
-    }
-    let GatherScratch {
-        staging,
-        colliding,
-        mean_speed,
-        published,
-    } = &mut *scratch;
-    *published = Some(now);
-    staging.clear();
-    if settings.render_bodies && settings.render_method == RenderMethod::Instanced {
-        colliding.clear();
-        for pair in &pairs.0 {
-            for entity in [pair.entity_a, pair.entity_b] {
-                let i = entity.index_u32() as usize;
-                if colliding.len() <= i {
-                    colliding.resize(i + 1, false);
-                }
-                colliding[i] = true;
-            }
-        }
-        let reference = mean_speed.max(1e-6);
-        let (mut speed_sum, mut counted) = (0.0f64, 0u64);
-        staging.extend(
-            bodies
-                .iter()
-                .filter(|(.., role, interacts)| !is_celestial(**role, **interacts))
-                .map(|(entity, id, transform, half, velocity, ..)| {
-                    let speed = velocity.0.length();
-                    speed_sum += f64::from(speed);
-                    counted += 1;
-                    let look = BodyLook {
-                        relative_speed: speed / reference,
-                        fragment: id.0 >= state.first_fragment_id,
-                        colliding: colliding.get(entity.index_u32() as usize).copied().unwrap_or(false),
-                    };
-                    InstanceData {
-                        center: transform.0.to_array(),
-                        half_extents: half.0.to_array(),
-                        color: body_color(look, settings.visual_effects),
-                    }
-                }),
-        );
-        if counted > 0 {
-            *mean_speed = (speed_sum / counted as f64) as f32;
-        }
-    }
-    slot.publish(staging);
 }
 
 #[cfg(test)]

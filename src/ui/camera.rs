@@ -6,24 +6,47 @@ use bevy::input::mouse::AccumulatedMouseMotion;
 use bevy::prelude::*;
 use bevy::render::view::NoIndirectDrawing;
 use bevy_egui::input::EguiWantsInput;
-use bevy_panorbit_camera::PanOrbitCamera;
+use bevy_panorbit_camera::{PanOrbitCamera, PanOrbitCameraPlugin};
 
-use crate::components::Position;
-
-use super::selection::Selection;
+use super::main_camera::MainCamera;
+use super::selection::{Selection, select_on_click};
+use super::sets::SandboxSystems;
 use super::settings::{CameraMode, SandboxSettings};
+use crate::components::{BodyId, Position};
 
-/// The one 3D camera.
-#[derive(Component, Debug)]
-pub struct MainCamera;
+/// Distance of the camera from the origin at start, before the first scene
+/// is framed.
+const START_DISTANCE: f32 = 4000.0;
+
+/// The camera and its controls.
+pub struct CameraPlugin;
+
+impl Plugin for CameraPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_plugins(PanOrbitCameraPlugin)
+            .add_systems(Startup, spawn_camera)
+            .add_systems(
+                Update,
+                (
+                    frame_scene,
+                    camera_key,
+                    fly_camera,
+                    orbit_and_follow.after(select_on_click),
+                )
+                    .chain()
+                    .in_set(SandboxSystems::View),
+            );
+    }
+}
 
 /// Free-fly speed in world units per second (Shift: ten times that).
 pub const FLY_SPEED: f32 = 600.0;
 /// Radians of turn per pixel of mouse motion.
 const LOOK_SENSITIVITY: f32 = 0.003;
 
-/// Spawns the camera looking at the planet from `distance`.
-pub fn spawn_camera(commands: &mut Commands, distance: f32) {
+/// Spawns the camera looking at the origin.
+fn spawn_camera(mut commands: Commands) {
+    let distance = START_DISTANCE;
     commands.spawn((
         Name::new("Camera"),
         MainCamera,
@@ -33,7 +56,7 @@ pub fn spawn_camera(commands: &mut Commands, distance: f32) {
             near: 0.5,
             ..default()
         }),
-        // Colours are final as the shaders write them (no LUT needed).
+        // Colors are final as the shaders write them (no LUT needed).
         Tonemapping::None,
         // The instanced body draw issues direct draws.
         NoIndirectDrawing,
@@ -49,8 +72,30 @@ pub fn spawn_camera(commands: &mut Commands, distance: f32) {
     ));
 }
 
+/// Once, after the first scene is built: backs the orbit camera off far
+/// enough to see most bodies (nine in ten, sampled).
+fn frame_scene(
+    bodies: Query<&Position, With<BodyId>>,
+    mut camera: Single<&mut PanOrbitCamera, With<MainCamera>>,
+    mut framed: Local<bool>,
+) {
+    if *framed || bodies.is_empty() {
+        return;
+    }
+    *framed = true;
+    let mut radii: Vec<f32> = bodies.iter().step_by(97).map(|p| p.0.length()).collect();
+    if radii.is_empty() {
+        return;
+    }
+    radii.sort_by(f32::total_cmp);
+    let reach = radii[(radii.len() - 1) * 9 / 10].max(10.0);
+    camera.target_radius = reach * 2.6;
+    camera.radius = Some(reach * 2.6);
+    camera.force_update = true;
+}
+
 /// Cycles the camera on C (unless egui has the keyboard).
-pub fn camera_key(keys: Res<ButtonInput<KeyCode>>, egui: Res<EguiWantsInput>, mut settings: ResMut<SandboxSettings>) {
+fn camera_key(keys: Res<ButtonInput<KeyCode>>, egui: Res<EguiWantsInput>, mut settings: ResMut<SandboxSettings>) {
     if keys.just_pressed(KeyCode::KeyC) && !egui.wants_keyboard_input() {
         settings.camera = settings.camera.next();
     }
@@ -58,7 +103,7 @@ pub fn camera_key(keys: Res<ButtonInput<KeyCode>>, egui: Res<EguiWantsInput>, mu
 
 /// Enables the orbit controller outside free fly, and points it at the
 /// selected body while following.
-pub fn orbit_and_follow(
+fn orbit_and_follow(
     settings: Res<SandboxSettings>,
     selection: Res<Selection>,
     bodies: Query<&Position>,
@@ -81,7 +126,7 @@ pub fn orbit_and_follow(
 
 /// Free flight: WASD forward/left/back/right, Q/E down/up, Shift fast;
 /// hold the right mouse button to look around.
-pub fn fly_camera(
+fn fly_camera(
     settings: Res<SandboxSettings>,
     keys: Res<ButtonInput<KeyCode>>,
     buttons: Res<ButtonInput<MouseButton>>,

@@ -8,9 +8,11 @@ use std::time::{Duration, Instant};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 
+use super::clock::UpdateClock;
 use super::frame_stats::{FrameStats, summarize};
-use super::instancing::InstancedBodies;
+use super::instance_slot::InstancedBodies;
 use super::settings::{RenderMethod, SandboxSettings};
+use crate::components::BodyId;
 
 /// Frames skipped before frame times count (pipelines compile, buffers fill).
 pub const WARMUP_FRAMES: usize = 10;
@@ -21,11 +23,38 @@ pub const READY_TIMEOUT: Duration = Duration::from_secs(120);
 /// What a scripted run does.
 #[derive(Resource, Clone, Debug)]
 pub struct ScriptedRun {
+    /// Frames to run before finishing.
     pub frames: u64,
+    /// Where to save a screenshot at the end (a new file).
     pub screenshot: Option<PathBuf>,
+    /// When the run started.
     pub started: Instant,
     /// Screenshot requested (waiting for it to be written).
     pub capturing: bool,
+}
+
+impl ScriptedRun {
+    /// A run of `frames` frames that saves `screenshot`, starting now.
+    pub fn new(frames: u64, screenshot: Option<PathBuf>) -> Self {
+        Self {
+            frames,
+            screenshot,
+            started: Instant::now(),
+            capturing: false,
+        }
+    }
+}
+
+/// A scripted run: ends the app after its frames, saves the screenshot and
+/// prints the frame-time summary.
+pub struct CapturePlugin(pub ScriptedRun);
+
+impl Plugin for CapturePlugin {
+    fn build(&self, app: &mut App) {
+        app.insert_resource(self.0.clone())
+            .add_systems(Update, scripted_run)
+            .add_systems(Last, report_frames);
+    }
 }
 
 /// Whether the bodies have been drawn at least once (or are not drawn by the
@@ -39,7 +68,7 @@ fn bodies_ready(settings: &SandboxSettings, instanced: &Query<&InstancedBodies>)
 
 /// After the frames (and once the bodies are on screen), takes the
 /// screenshot or ends the run.
-pub fn scripted_run(
+fn scripted_run(
     mut commands: Commands,
     mut run: ResMut<ScriptedRun>,
     stats: Res<FrameStats>,
@@ -89,11 +118,12 @@ pub fn scripted_run(
 }
 
 /// Prints the frame-time summary of a scripted run when the app exits.
-pub fn report_frames(
+fn report_frames(
     mut exits: MessageReader<AppExit>,
     stats: Res<FrameStats>,
+    clock: Res<UpdateClock>,
     settings: Res<SandboxSettings>,
-    bodies: Query<(), With<crate::components::BodyId>>,
+    bodies: Query<(), With<BodyId>>,
 ) {
     if exits.read().next().is_none() {
         return;
@@ -104,15 +134,22 @@ pub fn report_frames(
     } else {
         "none"
     };
+    let seconds: f64 = stats.all.iter().sum();
+    let ups = if seconds > 0.0 {
+        clock.updates_total as f64 / seconds
+    } else {
+        0.0
+    };
     match summarize(&stats.all, WARMUP_FRAMES) {
         Some(s) => println!(
             "frames {} (after {WARMUP_FRAMES} warm-up), bodies {bodies}, render {method}: \
-             mean {:.2} ms, median {:.2} ms, p95 {:.2} ms ({:.1} FPS)",
+             mean {:.2} ms, median {:.2} ms, p95 {:.2} ms ({:.1} FPS); {} updates ({ups:.1} per second)",
             s.frames,
             s.mean_ms,
             s.median_ms,
             s.p95_ms,
-            1e3 / s.mean_ms
+            1e3 / s.mean_ms,
+            clock.updates_total
         ),
         None => println!(
             "frames {}: too few to time (warm-up is {WARMUP_FRAMES})",

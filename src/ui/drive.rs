@@ -5,21 +5,37 @@ use std::time::{Duration, Instant};
 
 use bevy::prelude::*;
 
-use crate::resources::{Execution, SimulationSettings, StageTimings};
-use crate::systems::run_updates;
-
 use super::clock::{UpdateClock, updates_within_budget};
-use super::sandbox::SandboxState;
+use super::scene::SandboxState;
+use super::sets::SandboxSystems;
 use super::settings::SandboxSettings;
+use crate::execution::Execution;
+use crate::resources::SimulationSettings;
+use crate::systems::{StageTimings, run_updates};
 
 /// Longest a frame spends simulating before it drops the updates it still
 /// owes (keeps the window responsive: at least about 20 frames per second
 /// unless a single update is slower than this).
 pub const SIMULATION_BUDGET: Duration = Duration::from_millis(50);
 
+/// Runs the simulation at the chosen rate: the live settings first, then
+/// the updates the clock owes.
+pub struct DrivePlugin;
+
+impl Plugin for DrivePlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<UpdateClock>().add_systems(
+            Update,
+            (apply_live_settings, drive_simulation)
+                .chain()
+                .in_set(SandboxSystems::Simulate),
+        );
+    }
+}
+
 /// Applies the live settings (execution, physics switches) to the
 /// simulation resources, changing only what differs.
-pub fn apply_live_settings(
+fn apply_live_settings(
     settings: Res<SandboxSettings>,
     mut execution: ResMut<Execution>,
     mut physics: ResMut<SimulationSettings>,
@@ -27,8 +43,8 @@ pub fn apply_live_settings(
     if execution.mode() != settings.mode {
         execution.set_mode(settings.mode);
     }
-    if execution.threads() != usize::from(settings.threads)
-        && let Err(e) = execution.set_threads(usize::from(settings.threads))
+    if execution.threads() != settings.threads
+        && let Err(e) = execution.set_threads(settings.threads)
     {
         warn!("threads: {e}");
     }
@@ -40,15 +56,19 @@ pub fn apply_live_settings(
 }
 
 /// Runs the updates this frame owes, within [`SIMULATION_BUDGET`]; the
-/// rest are dropped and counted.
-pub fn drive_simulation(world: &mut World) {
+/// rest are dropped and counted. A new scene starts owing nothing.
+fn drive_simulation(world: &mut World, mut scene: Local<u64>) {
     let elapsed = world.resource::<Time<Real>>().delta_secs_f64();
     let settings = world.resource::<SandboxSettings>();
     let rate = f64::from(settings.updates_per_second) * f64::from(settings.speed);
     let mut state = world.resource_mut::<SandboxState>();
     let paused = state.paused;
     let step = std::mem::take(&mut state.step_requested);
+    let rebuilt = std::mem::replace(&mut *scene, state.generation) != state.generation;
     let mut clock = world.resource_mut::<UpdateClock>();
+    if rebuilt {
+        clock.reset_owed();
+    }
     let owed = if paused {
         clock.reset_owed();
         u32::from(step)

@@ -5,11 +5,23 @@ use std::collections::VecDeque;
 
 use bevy::prelude::*;
 
-use crate::resources::StageTimings;
-use crate::systems::SimulationSystems;
+use crate::systems::{STAGE_COUNT, SimulationSystems, StageTimings};
 
 /// Entries kept for the HUD's rolling plots.
 pub const HISTORY: usize = 240;
+
+/// Records every frame's time and each update's stage times.
+pub struct FrameStatsPlugin {
+    /// Keep every frame time (a scripted run reports them).
+    pub record_all: bool,
+}
+
+impl Plugin for FrameStatsPlugin {
+    fn build(&self, app: &mut App) {
+        app.insert_resource(FrameStats::new(self.record_all))
+            .add_systems(Last, record_frame_stats);
+    }
+}
 
 /// Frame times and stage-time history.
 #[derive(Resource, Debug, Default)]
@@ -20,9 +32,10 @@ pub struct FrameStats {
     pub frames: u64,
     /// Every frame time, seconds (kept only when `record_all`).
     pub all: Vec<f64>,
+    /// Whether every frame time is kept.
     pub record_all: bool,
     /// Last [`HISTORY`] samples of each stage's last update time, ms.
-    pub stage_history: VecDeque<[f32; SimulationSystems::ALL.len()]>,
+    pub stage_history: VecDeque<[f32; STAGE_COUNT]>,
     /// Last samples-count seen, to add one history entry per new update.
     last_update_samples: u64,
 }
@@ -36,6 +49,7 @@ impl FrameStats {
         }
     }
 
+    /// Frames per second, smoothed.
     pub fn fps(&self) -> f64 {
         if self.smoothed > 0.0 { 1.0 / self.smoothed } else { 0.0 }
     }
@@ -57,9 +71,13 @@ impl FrameStats {
 /// Summary of frame times: mean, median and 95th percentile in ms.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameSummary {
+    /// Frames summarized.
     pub frames: usize,
+    /// Mean frame time.
     pub mean_ms: f64,
+    /// Median frame time.
     pub median_ms: f64,
+    /// 95th percentile of the frame times.
     pub p95_ms: f64,
 }
 
@@ -80,7 +98,7 @@ pub fn summarize(times: &[f64], warmup: usize) -> Option<FrameSummary> {
     })
 }
 
-pub fn record_frame_stats(time: Res<Time<Real>>, timings: Res<StageTimings>, mut stats: ResMut<FrameStats>) {
+fn record_frame_stats(time: Res<Time<Real>>, timings: Res<StageTimings>, mut stats: ResMut<FrameStats>) {
     stats.record_frame(time.delta_secs_f64());
     if timings.update.samples != stats.last_update_samples {
         stats.last_update_samples = timings.update.samples;

@@ -2,27 +2,34 @@
 //! bodies, pairs, shatters, and per-stage timings with a rolling plot.
 
 use bevy::prelude::*;
-use bevy_egui::{EguiContexts, egui};
-
-use crate::resources::StageTimings;
-use crate::systems::{CollisionStats, SimulationSystems};
+use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
 use super::clock::UpdateClock;
 use super::frame_stats::{FrameStats, HISTORY};
-use super::sandbox::SandboxState;
-use super::settings::{SandboxSettings, SettingsFile};
+use super::scene::SandboxState;
+use super::sets::SandboxSystems;
+use super::settings::SandboxSettings;
+use super::settings_file::SettingsFile;
+use crate::components::BodyId;
+use crate::systems::{CollisionStats, STAGES, StageTimings, Timing};
 
-/// Plot colour of each stage, in [`SimulationSystems::ALL`] order.
-const STAGE_COLORS: [egui::Color32; 5] = [
-    egui::Color32::from_rgb(90, 170, 255),
-    egui::Color32::from_rgb(120, 220, 120),
-    egui::Color32::from_rgb(255, 190, 60),
-    egui::Color32::from_rgb(240, 100, 100),
-    egui::Color32::from_rgb(200, 130, 255),
-];
+/// The HUD window at the top right.
+pub struct HudPlugin;
+
+impl Plugin for HudPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(EguiPrimaryContextPass, hud.in_set(SandboxSystems::Hud));
+    }
+}
+
+/// A stage's color in the HUD, from the stage list.
+fn stage_color(rgb: [u8; 3]) -> egui::Color32 {
+    let [r, g, b] = rgb;
+    egui::Color32::from_rgb(r, g, b)
+}
 
 #[expect(clippy::too_many_arguments, reason = "the HUD shows a little of everything")]
-pub fn hud(
+fn hud(
     mut contexts: EguiContexts,
     stats: Res<FrameStats>,
     clock: Res<UpdateClock>,
@@ -31,7 +38,7 @@ pub fn hud(
     settings: Res<SandboxSettings>,
     state: Res<SandboxState>,
     file: Res<SettingsFile>,
-    bodies: Query<(), With<crate::components::BodyId>>,
+    bodies: Query<(), With<BodyId>>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     egui::Window::new("HUD")
@@ -57,23 +64,7 @@ pub fn hud(
                 collisions.pairs, collisions.shatters, collisions.shatters_total
             ));
             ui.separator();
-            egui::Grid::new("stage_times").num_columns(3).show(ui, |ui| {
-                ui.label("stage");
-                ui.label("last ms");
-                ui.label("mean ms");
-                ui.end_row();
-                for (stage, color) in SimulationSystems::ALL.into_iter().zip(STAGE_COLORS) {
-                    let t = timings.stage(stage);
-                    ui.colored_label(color, stage.name());
-                    ui.label(format!("{:.3}", t.last_ns as f64 / 1e6));
-                    ui.label(format!("{:.3}", t.mean_ns / 1e6));
-                    ui.end_row();
-                }
-                ui.label("update");
-                ui.label(format!("{:.3}", timings.update.last_ns as f64 / 1e6));
-                ui.label(format!("{:.3}", timings.update.mean_ns / 1e6));
-                ui.end_row();
-            });
+            stage_table(ui, &timings);
             stage_plot(ui, &stats);
             if let Some(warning) = &file.warning {
                 ui.separator();
@@ -81,6 +72,28 @@ pub fn hud(
             }
         });
     Ok(())
+}
+
+/// Last and mean time of each stage and of the whole update, in the
+/// stages' colors.
+fn stage_table(ui: &mut egui::Ui, timings: &StageTimings) {
+    let row = |ui: &mut egui::Ui, timing: &Timing| {
+        ui.label(format!("{:.3}", timing.last_ns as f64 / 1e6));
+        ui.label(format!("{:.3}", timing.mean_ns / 1e6));
+        ui.end_row();
+    };
+    egui::Grid::new("stage_times").num_columns(3).show(ui, |ui| {
+        ui.label("stage");
+        ui.label("last ms");
+        ui.label("mean ms");
+        ui.end_row();
+        for stage in &STAGES {
+            ui.colored_label(stage_color(stage.color), stage.name);
+            row(ui, timings.stage(stage.stage));
+        }
+        ui.label("update");
+        row(ui, &timings.update);
+    });
 }
 
 /// Stacked per-stage update time over the last updates.
@@ -97,14 +110,14 @@ fn stage_plot(ui: &mut egui::Ui, stats: &FrameStats) {
     let x = |i: usize| rect.left() + rect.width() * i as f32 / (HISTORY - 1) as f32;
     let y = |ms: f32| rect.bottom() - rect.height() * (ms / peak).min(1.0);
     let mut below = vec![0.0f32; history.len()];
-    for (stage, color) in STAGE_COLORS.iter().enumerate() {
+    for (k, stage) in STAGES.iter().enumerate() {
         let mut top: Vec<egui::Pos2> = Vec::with_capacity(history.len());
         for (i, sample) in history.iter().enumerate() {
-            below[i] += sample[stage];
+            below[i] += sample[k];
             top.push(egui::pos2(x(i), y(below[i])));
         }
         if top.len() > 1 {
-            painter.add(egui::Shape::line(top, egui::Stroke::new(1.5, *color)));
+            painter.add(egui::Shape::line(top, egui::Stroke::new(1.5, stage_color(stage.color))));
         }
     }
     painter.text(

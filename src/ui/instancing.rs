@@ -1,363 +1,153 @@
-//! All body cubes in one instanced draw call.
+//! All body cubes in one instanced draw call: the main world's half.
 //!
-//! The main world packs every body into a 28-byte [`InstanceData`] (centre,
-//! half extents, colour) each frame and hands the vector to the render world
-//! through a shared slot, without copying it again. The render world keeps
-//! one GPU buffer, grows it only when the bodies outgrow it, and otherwise
-//! overwrites it in place; one `draw_indexed` call with one instance per
-//! body draws them all (the pattern of Bevy's `custom_shader_instancing`
-//! example, with a reused buffer).
+//! Each frame in which the bodies moved, the main world packs every body
+//! into a 28-byte [`InstanceData`] (center, half extents, color) and hands
+//! the vector to the render world through a shared
+//! [`InstanceSlot`](super::instance_slot::InstanceSlot), without copying it
+//! again. The render world's half
+//! ([`instanced_draw`](super::instanced_draw)) writes it into one reused GPU
+//! buffer and draws every cube with one `draw_indexed` call (the pattern of
+//! Bevy's `custom_shader_instancing` example, with a reused buffer).
 
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
-use bevy::asset::{load_internal_asset, uuid_handle};
 use bevy::camera::visibility::NoFrustumCulling;
-use bevy::core_pipeline::core_3d::{Transparent3d, TransparentSortingInfo3d};
-use bevy::ecs::query::QueryItem;
-use bevy::ecs::system::SystemParamItem;
-use bevy::ecs::system::lifetimeless::SRes;
-use bevy::mesh::{MeshVertexBufferLayoutRef, VertexBufferLayout};
-use bevy::pbr::{
-    MeshPipeline, MeshPipelineKey, MeshPipelineSystems, RenderMeshInstances, SetMeshBindGroup, SetMeshViewBindGroup,
-    SetMeshViewBindingArrayBindGroup, ViewKeyCache,
-};
 use bevy::prelude::*;
-use bevy::render::extract_component::{ExtractComponent, ExtractComponentPlugin};
-use bevy::render::mesh::allocator::MeshAllocator;
-use bevy::render::mesh::{RenderMesh, RenderMeshBufferInfo};
-use bevy::render::render_asset::RenderAssets;
-use bevy::render::render_phase::{
-    AddRenderCommand, DrawFunctions, PhaseItem, PhaseItemExtraIndex, RenderCommand, RenderCommandResult,
-    SetItemPipeline, TrackedRenderPass, ViewSortedRenderPhases,
-};
-use bevy::render::render_resource::{
-    Buffer, BufferDescriptor, BufferUsages, PipelineCache, RenderPipelineDescriptor, SpecializedMeshPipeline,
-    SpecializedMeshPipelineError, SpecializedMeshPipelines, VertexAttribute, VertexFormat, VertexStepMode,
-};
-use bevy::render::renderer::{RenderDevice, RenderQueue};
-use bevy::render::sync_component::SyncComponent;
-use bevy::render::sync_world::MainEntity;
-use bevy::render::view::ExtractedView;
-use bevy::render::{Render, RenderApp, RenderStartup, RenderSystems};
-use bytemuck::{Pod, Zeroable};
+use bevy::render::extract_component::ExtractComponentPlugin;
 
-const SHADER: Handle<Shader> = uuid_handle!("5b0c6f1e-2d4a-4e57-9a61-7f3f1c0de5a1");
+use super::body_colors::{BodyLook, body_color, is_celestial};
+use super::clock::UpdateClock;
+use super::instance_slot::{InstanceData, InstancedBodies};
+use super::instanced_draw::InstancedDrawPlugin;
+use super::scene::SandboxState;
+use super::settings::{RenderMethod, SandboxSettings};
+use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position, Velocity};
+use crate::systems::OverlappingPairs;
 
-/// One cube as the GPU sees it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-#[repr(C)]
-pub struct InstanceData {
-    /// Centre, world units.
-    pub center: [f32; 3],
-    /// Half the edge lengths, world units.
-    pub half_extents: [f32; 3],
-    /// sRGB colour bytes, alpha unused.
-    pub color: [u8; 4],
-}
-
-/// What the main world and the render world share: this frame's instances
-/// and a count of instanced draws actually submitted.
-#[derive(Debug, Default)]
-pub struct InstanceSlot {
-    data: Mutex<Vec<InstanceData>>,
-    /// Bumped by every publish; the render world uploads only new data.
-    generation: AtomicU64,
-    draws: AtomicU64,
-}
-
-impl InstanceSlot {
-    /// Puts `instances` in the slot, handing back the previous vector for
-    /// reuse (no allocation in steady state).
-    pub fn publish(&self, instances: &mut Vec<InstanceData>) {
-        let mut slot = self.data.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        std::mem::swap(&mut *slot, instances);
-        self.generation.fetch_add(1, Ordering::Release);
-    }
-
-    /// Instanced draws submitted so far (0 until the pipeline is compiled).
-    pub fn draws(&self) -> u64 {
-        self.draws.load(Ordering::Relaxed)
-    }
-}
-
-/// The entity that stands for all instanced bodies: a unit cube mesh plus
-/// the shared slot.
-#[derive(Component, Clone)]
-pub struct InstancedBodies(pub Arc<InstanceSlot>);
-
-impl SyncComponent for InstancedBodies {
-    type Target = Self;
-}
-
-impl ExtractComponent for InstancedBodies {
-    type QueryData = &'static InstancedBodies;
-    type QueryFilter = ();
-    type Out = Self;
-
-    fn extract_component(item: QueryItem<'_, '_, Self::QueryData>) -> Option<Self> {
-        Some(item.clone())
-    }
-}
-
-/// Adds the instanced body pipeline to the renderer.
+/// Draws the bodies as instanced cubes when that method is chosen.
 pub struct InstancingPlugin;
 
 impl Plugin for InstancingPlugin {
     fn build(&self, app: &mut App) {
-        load_internal_asset!(app, SHADER, "instancing.wgsl", Shader::from_wgsl);
-        app.add_plugins(ExtractComponentPlugin::<InstancedBodies>::default());
-        app.sub_app_mut(RenderApp)
-            .add_render_command::<Transparent3d, DrawBodies>()
-            .init_resource::<SpecializedMeshPipelines<BodyPipeline>>()
-            .init_resource::<BodyInstanceBuffer>()
-            .add_systems(RenderStartup, init_body_pipeline.after(MeshPipelineSystems))
-            .add_systems(
-                Render,
-                (
-                    queue_bodies.in_set(RenderSystems::QueueMeshes),
-                    prepare_body_buffer.in_set(RenderSystems::PrepareResources),
-                ),
-            );
+        app.add_plugins((
+            ExtractComponentPlugin::<InstancedBodies>::default(),
+            InstancedDrawPlugin,
+        ))
+        .add_systems(Startup, spawn_instanced_bodies)
+        .add_systems(PostUpdate, gather_instances);
     }
 }
 
-/// Spawns the instanced-bodies entity; returns its slot.
-pub fn spawn_instanced_bodies(commands: &mut Commands, meshes: &mut Assets<Mesh>) -> Arc<InstanceSlot> {
-    let slot = Arc::new(InstanceSlot::default());
+/// Spawns the instanced-bodies entity.
+fn spawn_instanced_bodies(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>) {
     commands.spawn((
         Name::new("Instanced bodies"),
         Mesh3d(meshes.add(Cuboid::new(1.0, 1.0, 1.0))),
-        InstancedBodies(slot.clone()),
+        InstancedBodies(Arc::default()),
         // The instances are everywhere; the mesh's own box says nothing.
         NoFrustumCulling,
     ));
-    slot
 }
 
-/// The GPU buffer of instances, reused from frame to frame.
-#[derive(Resource, Default)]
-struct BodyInstanceBuffer {
-    buffer: Option<Buffer>,
-    /// Instances the buffer can hold.
-    capacity: usize,
-    /// Instances to draw this frame.
-    length: usize,
-    /// Generation of the data in the buffer.
-    uploaded: Option<u64>,
-    slot: Option<Arc<InstanceSlot>>,
+/// Buffers of [`gather_instances`], kept between frames.
+#[derive(Default)]
+struct GatherScratch {
+    staging: Vec<InstanceData>,
+    /// Indexed by entity index: in an overlapping pair this update.
+    colliding: Vec<bool>,
+    /// Mean cube speed of the previous frame (the color ramp's scale).
+    mean_speed: f32,
+    /// (updates run, scene generation) of the last publish.
+    published: Option<(u64, u64)>,
 }
 
-fn prepare_body_buffer(
-    bodies: Query<&InstancedBodies>,
-    device: Res<RenderDevice>,
-    queue: Res<RenderQueue>,
-    mut gpu: ResMut<BodyInstanceBuffer>,
+impl GatherScratch {
+    /// Marks the bodies of this update's overlapping pairs.
+    fn mark_colliding(&mut self, pairs: &OverlappingPairs) {
+        self.colliding.clear();
+        for pair in &pairs.0 {
+            for entity in [pair.entity_a, pair.entity_b] {
+                let i = entity.index_u32() as usize;
+                if self.colliding.len() <= i {
+                    self.colliding.resize(i + 1, false);
+                }
+                self.colliding[i] = true;
+            }
+        }
+    }
+
+    fn is_colliding(&self, entity: Entity) -> bool {
+        self.colliding
+            .get(entity.index_u32() as usize)
+            .copied()
+            .unwrap_or(false)
+    }
+}
+
+/// The components a cube's instance is made of.
+type CubeQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        &'static BodyId,
+        &'static Position,
+        &'static HalfExtents,
+        &'static Velocity,
+        &'static GravityRole,
+        &'static Interacts,
+    ),
+>;
+
+/// Packs every cube into the instance slot (instanced method, bodies
+/// shown), an empty slot otherwise — but only when the bodies moved, the
+/// scene was rebuilt or a setting changed: the positions are never marked
+/// changed (see `components`), so the update count tells.
+fn gather_instances(
+    bodies: CubeQuery,
+    instanced: Query<&InstancedBodies>,
+    pairs: Res<OverlappingPairs>,
+    settings: Res<SandboxSettings>,
+    state: Res<SandboxState>,
+    clock: Res<UpdateClock>,
+    mut scratch: Local<GatherScratch>,
 ) {
-    let Some(InstancedBodies(slot)) = bodies.iter().next() else {
-        gpu.length = 0;
+    let Some(InstancedBodies(slot)) = instanced.iter().next() else {
         return;
     };
-    let data = slot.data.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-    let generation = slot.generation.load(Ordering::Acquire);
-    if gpu.uploaded == Some(generation) {
-        // Nothing new (paused, or the frame ran no update): draw what is there.
+    let now = (clock.updates_total, state.generation);
+    if scratch.published == Some(now) && !settings.is_changed() {
         return;
     }
-    if data.len() > gpu.capacity || gpu.buffer.is_none() {
-        // Grow by half again, so a growing debris field reallocates rarely.
-        let capacity = (data.len() + data.len() / 2).max(1024);
-        gpu.buffer = Some(device.create_buffer(&BufferDescriptor {
-            label: Some("kessler body instances"),
-            size: (capacity * size_of::<InstanceData>()) as u64,
-            usage: BufferUsages::VERTEX | BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        }));
-        gpu.capacity = capacity;
-    }
-    if let Some(buffer) = &gpu.buffer
-        && !data.is_empty()
-    {
-        queue.write_buffer(buffer, 0, bytemuck::cast_slice(data.as_slice()));
-    }
-    gpu.length = data.len();
-    gpu.uploaded = Some(generation);
-    drop(data);
-    gpu.slot = Some(slot.clone());
-}
-
-#[expect(
-    clippy::too_many_arguments,
-    reason = "a render system gathers many render-world resources"
-)]
-fn queue_bodies(
-    draw_functions: Res<DrawFunctions<Transparent3d>>,
-    pipeline: Res<BodyPipeline>,
-    mut pipelines: ResMut<SpecializedMeshPipelines<BodyPipeline>>,
-    pipeline_cache: Res<PipelineCache>,
-    meshes: Res<RenderAssets<RenderMesh>>,
-    mesh_instances: Res<RenderMeshInstances>,
-    bodies: Query<(Entity, &MainEntity), With<InstancedBodies>>,
-    mut phases: ResMut<ViewSortedRenderPhases<Transparent3d>>,
-    views: Query<&ExtractedView>,
-    view_keys: Res<ViewKeyCache>,
-) {
-    let draw = draw_functions.read().id::<DrawBodies>();
-    for view in &views {
-        let Some(phase) = phases.get_mut(&view.retained_view_entity) else {
-            continue;
-        };
-        let Some(&view_key) = view_keys.get(&view.retained_view_entity) else {
-            continue;
-        };
-        for (entity, main_entity) in &bodies {
-            let Some(mesh_instance) = mesh_instances.render_mesh_queue_data(*main_entity) else {
-                continue;
+    scratch.published = Some(now);
+    let mut staging = std::mem::take(&mut scratch.staging);
+    staging.clear();
+    if settings.render_bodies && settings.render_method == RenderMethod::Instanced {
+        scratch.mark_colliding(&pairs);
+        let reference = scratch.mean_speed.max(1e-6);
+        let (mut speed_sum, mut counted) = (0.0f64, 0u64);
+        let cubes = bodies
+            .iter()
+            .filter(|(.., role, interacts)| !is_celestial(**role, **interacts));
+        staging.extend(cubes.map(|(entity, id, position, half, velocity, ..)| {
+            let speed = velocity.0.length();
+            speed_sum += f64::from(speed);
+            counted += 1;
+            let look = BodyLook {
+                relative_speed: speed / reference,
+                fragment: id.0 >= state.first_fragment_id,
+                colliding: scratch.is_colliding(entity),
             };
-            let Some(mesh) = meshes.get(mesh_instance.mesh_asset_id()) else {
-                continue;
-            };
-            let key = view_key
-                | MeshPipelineKey::from_primitive_topology_and_strip_index(
-                    mesh.primitive_topology(),
-                    mesh.index_format(),
-                );
-            let Ok(pipeline) = pipelines.specialize(&pipeline_cache, &pipeline, key, &mesh.layout) else {
-                continue;
-            };
-            phase.add_retained(Transparent3d {
-                sorting_info: TransparentSortingInfo3d::Sorted {
-                    mesh_center: Vec3::ZERO,
-                    depth_bias: 0.0,
-                },
-                entity: (entity, *main_entity),
-                pipeline,
-                draw_function: draw,
-                distance: 0.0,
-                batch_range: 0..1,
-                extra_index: PhaseItemExtraIndex::None,
-                indexed: true,
-            });
-        }
-    }
-}
-
-/// The mesh pipeline with the body shader and the instance buffer layout.
-#[derive(Resource)]
-struct BodyPipeline {
-    mesh_pipeline: MeshPipeline,
-}
-
-fn init_body_pipeline(mut commands: Commands, mesh_pipeline: Res<MeshPipeline>) {
-    commands.insert_resource(BodyPipeline {
-        mesh_pipeline: mesh_pipeline.clone(),
-    });
-}
-
-impl SpecializedMeshPipeline for BodyPipeline {
-    type Key = MeshPipelineKey;
-
-    fn specialize(
-        &self,
-        key: Self::Key,
-        layout: &MeshVertexBufferLayoutRef,
-    ) -> Result<RenderPipelineDescriptor, SpecializedMeshPipelineError> {
-        let mut descriptor = self.mesh_pipeline.specialize(key, layout)?;
-        descriptor.vertex.shader = SHADER;
-        descriptor.vertex.buffers.push(VertexBufferLayout {
-            array_stride: size_of::<InstanceData>() as u64,
-            step_mode: VertexStepMode::Instance,
-            // Locations 0–2 are the mesh's position, normal and uv.
-            attributes: vec![
-                VertexAttribute {
-                    format: VertexFormat::Float32x3,
-                    offset: 0,
-                    shader_location: 3,
-                },
-                VertexAttribute {
-                    format: VertexFormat::Float32x3,
-                    offset: 12,
-                    shader_location: 4,
-                },
-                VertexAttribute {
-                    format: VertexFormat::Unorm8x4,
-                    offset: 24,
-                    shader_location: 5,
-                },
-            ],
-        });
-        if let Some(fragment) = descriptor.fragment.as_mut() {
-            fragment.shader = SHADER;
-        }
-        Ok(descriptor)
-    }
-}
-
-type DrawBodies = (
-    SetItemPipeline,
-    SetMeshViewBindGroup<0>,
-    SetMeshViewBindingArrayBindGroup<1>,
-    SetMeshBindGroup<2>,
-    DrawBodiesInstanced,
-);
-
-struct DrawBodiesInstanced;
-
-impl<P: PhaseItem> RenderCommand<P> for DrawBodiesInstanced {
-    type Param = (
-        SRes<RenderAssets<RenderMesh>>,
-        SRes<RenderMeshInstances>,
-        SRes<MeshAllocator>,
-        SRes<BodyInstanceBuffer>,
-    );
-    type ViewQuery = ();
-    type ItemQuery = ();
-
-    fn render<'w>(
-        item: &P,
-        _view: (),
-        _entity: Option<()>,
-        (meshes, mesh_instances, allocator, instances): SystemParamItem<'w, '_, Self::Param>,
-        pass: &mut TrackedRenderPass<'w>,
-    ) -> RenderCommandResult {
-        let allocator = allocator.into_inner();
-        let instances = instances.into_inner();
-        let (Some(buffer), length) = (&instances.buffer, instances.length) else {
-            return RenderCommandResult::Skip;
-        };
-        if length == 0 {
-            return RenderCommandResult::Skip;
-        }
-        let Some(mesh_instance) = mesh_instances.render_mesh_queue_data(item.main_entity()) else {
-            return RenderCommandResult::Skip;
-        };
-        let mesh_id = mesh_instance.mesh_asset_id();
-        let Some(gpu_mesh) = meshes.into_inner().get(mesh_id) else {
-            return RenderCommandResult::Skip;
-        };
-        let Some(vertices) = allocator.mesh_vertex_slice(&mesh_id) else {
-            return RenderCommandResult::Skip;
-        };
-        pass.set_vertex_buffer(0, vertices.buffer.slice(..));
-        pass.set_vertex_buffer(1, buffer.slice(..));
-        let instance_range = 0..length as u32;
-        match &gpu_mesh.buffer_info {
-            RenderMeshBufferInfo::Indexed { index_format, count } => {
-                let Some(indices) = allocator.mesh_index_slice(&mesh_id) else {
-                    return RenderCommandResult::Skip;
-                };
-                pass.set_index_buffer(indices.buffer.slice(..), *index_format);
-                pass.draw_indexed(
-                    indices.range.start..(indices.range.start + count),
-                    vertices.range.start as i32,
-                    instance_range,
-                );
+            InstanceData {
+                center: position.0.to_array(),
+                half_extents: half.0.to_array(),
+                color: body_color(look, settings.visual_effects),
             }
-            RenderMeshBufferInfo::NonIndexed => pass.draw(vertices.range, instance_range),
+        }));
+        if counted > 0 {
+            scratch.mean_speed = (speed_sum / counted as f64) as f32;
         }
-        if let Some(slot) = &instances.slot {
-            slot.draws.fetch_add(1, Ordering::Relaxed);
-        }
-        RenderCommandResult::Success
     }
+    slot.publish(&mut staging);
+    scratch.staging = staging;
 }

@@ -5,7 +5,7 @@
 struct Vertex {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
-    // Per instance: centre, half extents, colour (sRGB bytes, unpacked to 0..1).
+    // Per instance: center, half extents, color (sRGB bytes, unpacked to 0..1).
     @location(3) i_center: vec3<f32>,
     @location(4) i_half: vec3<f32>,
     @location(5) i_color: vec4<f32>,

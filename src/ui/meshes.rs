@@ -4,16 +4,18 @@
 //! frame; the instanced pipeline skips all of that.
 
 use bevy::prelude::*;
-
-use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position};
+use bevy::transform::TransformSystems;
 
 use super::body_colors::{PLAIN, is_celestial};
 use super::settings::{RenderMethod, SandboxSettings};
+use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position};
 
 /// The shared mesh and material of per-entity bodies.
 #[derive(Resource, Clone)]
 pub struct BodyMeshAssets {
+    /// A unit cube, scaled per body.
     pub mesh: Handle<Mesh>,
+    /// Plain gray.
     pub material: Handle<StandardMaterial>,
 }
 
@@ -21,7 +23,19 @@ pub struct BodyMeshAssets {
 #[derive(Component, Debug)]
 pub struct MeshedBody;
 
-pub fn init_body_mesh_assets(
+/// Gives every body a mesh entity when that method is chosen.
+pub struct MeshesPlugin;
+
+impl Plugin for MeshesPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(Startup, init_body_mesh_assets).add_systems(
+            PostUpdate,
+            (sync_body_meshes, place_body_meshes.after(TransformSystems::Propagate)),
+        );
+    }
+}
+
+fn init_body_mesh_assets(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
@@ -36,7 +50,7 @@ pub fn init_body_mesh_assets(
 /// Gives every cube a mesh in the meshes method (new fragments included)
 /// and takes them away otherwise.
 #[expect(clippy::type_complexity, reason = "queries select bodies by their drawing state")]
-pub fn sync_body_meshes(
+fn sync_body_meshes(
     mut commands: Commands,
     settings: Res<SandboxSettings>,
     assets: Res<BodyMeshAssets>,
@@ -74,7 +88,7 @@ pub fn sync_body_meshes(
 /// The renderer reads `GlobalTransform` (which `Mesh3d` brings along); the
 /// stages move [`Position`], so the meshes method copies it over (sized by
 /// the half extents) every frame.
-pub fn place_body_meshes(mut bodies: Query<(&Position, &HalfExtents, &mut GlobalTransform), With<MeshedBody>>) {
+fn place_body_meshes(mut bodies: Query<(&Position, &HalfExtents, &mut GlobalTransform), With<MeshedBody>>) {
     bodies.par_iter_mut().for_each(|(position, half, mut global)| {
         *global = GlobalTransform::from(Transform::from_translation(position.0).with_scale(half.0 * 2.0));
     });

@@ -1,21 +1,31 @@
-//! The interactive window (feature `gui`): GPU-instanced bodies, cameras,
-//! the egui settings panel and HUD, saved settings. The simulation itself is
-//! the same headless core (`crate::systems`), driven at a chosen update rate.
+//! The interactive window (feature `gui`): one plugin per concern, added by
+//! [`app`]. The simulation itself is the same headless core
+//! (`crate::systems`), driven at a chosen update rate.
 
 mod app;
+pub mod backdrop;
 pub mod body_colors;
 pub mod camera;
 pub mod capture;
+pub mod celestials;
 pub mod clock;
 pub mod drive;
 pub mod frame_stats;
 pub mod hud;
+pub mod instance_slot;
+pub mod instanced_draw;
 pub mod instancing;
+pub mod main_camera;
 pub mod meshes;
 pub mod panel;
-pub mod sandbox;
 pub mod scene;
 pub mod selection;
+pub mod sets;
 pub mod settings;
+pub mod settings_file;
+pub mod startup;
+mod window_options;
 
 pub use app::run;
+pub use settings::RenderMethod;
+pub use window_options::*;

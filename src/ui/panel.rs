@@ -4,25 +4,47 @@
 use std::path::{Path, PathBuf};
 
 use bevy::prelude::*;
-use bevy_egui::{EguiContexts, egui};
+use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
-use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
-use crate::resources::{ExecutionMode, available_threads};
-use crate::rng::Rng;
-
-use super::sandbox::{SandboxState, scenario_files};
+use super::scene::SandboxState;
 use super::selection::{Selection, selected_info};
+use super::sets::SandboxSystems;
 use super::settings::{CameraMode, MAX_BODY_COUNT, RenderMethod, SPEED_RANGE, SandboxSettings, UPS_RANGE};
+use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
+use crate::execution::{ExecutionMode, available_threads};
+use crate::rng::Rng;
 
 /// Folder the scenario picker lists.
 pub const SCENARIO_DIR: &str = "scenarios";
 
+/// The settings panel at the left, and the run keys (Space, N, R).
+pub struct PanelPlugin;
+
+impl Plugin for PanelPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(EguiPrimaryContextPass, panel.in_set(SandboxSystems::Panel));
+    }
+}
+
 /// Text of the "any path" field of the scenario picker.
 #[derive(Default)]
-pub struct PathField(String);
+struct PathField(String);
+
+/// The scenario files in `dir` (sorted), for the picker.
+pub fn scenario_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .collect();
+    files.sort();
+    files
+}
 
 #[expect(clippy::too_many_arguments, reason = "the panel edits settings, state and selection")]
-pub fn panel(
+fn panel(
     mut contexts: EguiContexts,
     mut settings: ResMut<SandboxSettings>,
     mut state: ResMut<SandboxState>,
@@ -58,7 +80,7 @@ pub fn panel(
         .show_inside(&mut viewport, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 ui.heading("Kessler");
-                ui.label(format!("scenario: {}", state.scenario_name));
+                ui.label(format!("scenario: {}", state.scenario.origin));
                 run_controls(ui, &mut edited, &mut state);
                 ui.separator();
                 execution(ui, &mut edited);
@@ -113,7 +135,7 @@ fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         ui.radio_value(&mut settings.mode, ExecutionMode::Sequential, "sequential");
         ui.radio_value(&mut settings.mode, ExecutionMode::Parallel, "parallel");
     });
-    let most = u16::try_from(available_threads() * 2).unwrap_or(u16::MAX).max(2);
+    let most = (available_threads() * 2).max(2);
     ui.add_enabled(
         settings.mode == ExecutionMode::Parallel,
         egui::Slider::new(&mut settings.threads, 1..=most).text("threads"),
@@ -126,7 +148,7 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     ui.checkbox(&mut settings.collisions, "collision detection");
     ui.add_enabled(
         settings.collisions,
-        egui::Checkbox::new(&mut settings.collision_effects, "collision effects (bounce, shatter)"),
+        egui::Checkbox::new(&mut settings.collision_response, "collision response (bounce, shatter)"),
     );
     ui.add(egui::Slider::new(&mut settings.shatter_fragments, 2..=20).text("shatter fragments"));
     ui.add(
@@ -157,10 +179,30 @@ fn scene(
     ui.horizontal(|ui| {
         ui.label("seed");
         ui.add(egui::DragValue::new(&mut settings.seed));
-        if ui.button("🎲 randomise").clicked() {
+        if ui.button("🎲 randomize").clicked() {
             settings.seed = random_seed();
         }
     });
+    scenario_picker(ui, settings, path_field, files);
+    let pending = state.pending_restart(settings);
+    if !pending.is_empty() {
+        ui.colored_label(
+            egui::Color32::from_rgb(255, 200, 90),
+            format!("restart to apply: {}", pending.join(", ")),
+        );
+    }
+    if let Some(error) = &state.error {
+        ui.colored_label(egui::Color32::from_rgb(255, 110, 110), error);
+    }
+}
+
+/// The scenario: one of `scenarios/`, the built-in one, or any path.
+fn scenario_picker(
+    ui: &mut egui::Ui,
+    settings: &mut SandboxSettings,
+    path_field: &mut String,
+    files: &mut Option<Vec<PathBuf>>,
+) {
     let files = files.get_or_insert_with(|| scenario_files(Path::new(SCENARIO_DIR)));
     let shown = settings
         .scenario
@@ -187,22 +229,12 @@ fn scene(
             settings.scenario = Some(PathBuf::from(path_field.trim()));
         }
     });
-    let pending = state.pending_restart(settings);
-    if !pending.is_empty() {
-        ui.colored_label(
-            egui::Color32::from_rgb(255, 200, 90),
-            format!("restart to apply: {}", pending.join(", ")),
-        );
-    }
-    if let Some(error) = &state.error {
-        ui.colored_label(egui::Color32::from_rgb(255, 110, 110), error);
-    }
 }
 
 fn rendering(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     ui.label("Rendering");
     ui.checkbox(&mut settings.render_bodies, "render bodies");
-    ui.checkbox(&mut settings.visual_effects, "visual effects (colour by state)");
+    ui.checkbox(&mut settings.visual_effects, "visual effects (color by state)");
     ui.checkbox(&mut settings.show_collision_boxes, "planet collision box");
     ui.horizontal(|ui| {
         ui.radio_value(&mut settings.render_method, RenderMethod::Instanced, "instanced");
@@ -258,4 +290,16 @@ fn random_seed() -> u64 {
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_nanos() as u64);
     Rng::new(nanos).next_u64()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn picker_lists_the_shipped_scenarios() {
+        let files = scenario_files(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios")));
+        assert!(files.iter().any(|f| f.ends_with("debris_orbit.ron")), "{files:?}");
+        assert!(files.windows(2).all(|w| w[0] <= w[1]));
+    }
 }

@@ -1,83 +1,287 @@
-//! The static backdrop: sunlight, ambient light and a starfield.
+//! The running scene: which scenario is loaded, and building the bodies from
+//! it (at start and on restart) with the sandbox's settings.
 
-use bevy::asset::RenderAssetUsages;
-use bevy::light::GlobalAmbientLight;
-use bevy::mesh::{Indices, PrimitiveTopology};
+use std::path::PathBuf;
+
 use bevy::prelude::*;
 
-use crate::rng::Rng;
+use super::sets::SandboxSystems;
+use super::settings::SandboxSettings;
+use crate::components::{BodyId, BodyState};
+use crate::input::InputError;
+use crate::resources::SimulationSettings;
+use crate::scenario::{NoGenerators, Scenario};
+use crate::simulation::spawn_bodies;
+use crate::systems::{CollisionStats, OverlappingPairs, StageTimings};
 
-/// Distance of the stars from the origin, world units.
-pub const STAR_DISTANCE: f32 = 200_000.0;
-/// Stars in the sky.
-pub const STAR_COUNT: usize = 4000;
-
-/// Direction the sunlight comes from (towards the sun); the instanced
-/// shader lights the cubes from the same direction.
-pub fn sun_direction() -> Vec3 {
-    Vec3::ONE.normalize()
+/// State of the sandbox beyond its settings.
+#[derive(Resource, Debug)]
+pub struct SandboxState {
+    /// The loaded scenario, as read from its file.
+    pub scenario: Scenario,
+    /// Bodies with an id from here on were born in a shatter.
+    pub first_fragment_id: u64,
+    /// Simulation halted (rendering goes on).
+    pub paused: bool,
+    /// Run exactly one update next frame (while paused).
+    pub step_requested: bool,
+    /// Rebuild the scene from the scenario and the settings next frame.
+    pub restart_requested: bool,
+    /// The settings the scene was last built with, to tell which pending
+    /// changes need a restart.
+    pub built_with: SandboxSettings,
+    /// Last problem (a scenario that would not load), shown in the panel.
+    pub error: Option<String>,
+    /// Counts scene builds (so views know the bodies were replaced).
+    pub generation: u64,
+    /// File of the loaded scenario (`None`: built-in).
+    pub loaded_path: Option<PathBuf>,
 }
 
-/// Spawns the sun, the ambient light and the stars.
-pub fn spawn_backdrop(
-    mut commands: Commands,
-    mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
-) {
-    commands.insert_resource(ClearColor(Color::srgb(0.005, 0.006, 0.015)));
-    commands.insert_resource(GlobalAmbientLight {
-        color: Color::WHITE,
-        brightness: 250.0,
-        ..default()
-    });
-    commands.spawn((
-        Name::new("Sun"),
-        DirectionalLight {
-            illuminance: 4_000.0,
-            ..default()
-        },
-        Transform::default().looking_to(-sun_direction(), Vec3::Y),
-    ));
-    commands.spawn((
-        Name::new("Stars"),
-        Mesh3d(meshes.add(starfield_mesh(STAR_COUNT, STAR_DISTANCE, 7))),
-        MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::WHITE,
-            unlit: true,
-            // Seen from inside the sphere, whichever way they wind.
-            cull_mode: None,
-            ..default()
-        })),
-        Transform::default(),
-    ));
-}
-
-/// One mesh of `count` small triangles on a sphere of `radius`, each facing
-/// the centre, their sizes varied for a few brighter stars.
-pub fn starfield_mesh(count: usize, radius: f32, seed: u64) -> Mesh {
-    let mut rng = Rng::stream(seed, 0);
-    let mut positions = Vec::with_capacity(count * 3);
-    for _ in 0..count {
-        // Uniform direction on the sphere.
-        let z = (rng.unit() as f32) * 2.0 - 1.0;
-        let phi = (rng.unit() as f32) * std::f32::consts::TAU;
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let dir = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-        let size = radius * 0.0007 * (1.0 + 2.0 * (rng.unit() as f32).powi(6));
-        let center = dir * radius;
-        let (u, v) = dir.any_orthonormal_pair();
-        for k in 0..3 {
-            let angle = k as f32 * std::f32::consts::TAU / 3.0;
-            positions.push((center + (u * angle.cos() + v * angle.sin()) * size).to_array());
+impl SandboxState {
+    /// The state before the first build of `scenario` with `settings`
+    /// (which the first frame does).
+    pub fn new(scenario: Scenario, settings: &SandboxSettings) -> Self {
+        Self {
+            scenario,
+            first_fragment_id: 0,
+            paused: false,
+            step_requested: false,
+            restart_requested: true,
+            built_with: settings.clone(),
+            error: None,
+            generation: 0,
+            loaded_path: settings.scenario.clone(),
         }
     }
-    let normals: Vec<[f32; 3]> = positions
-        .iter()
-        .map(|p| (-Vec3::from_array(*p).normalize()).to_array())
-        .collect();
-    let indices: Vec<u32> = (0..positions.len() as u32).collect();
-    Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::RENDER_WORLD)
-        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-        .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, normals)
-        .with_inserted_indices(Indices::U32(indices))
+
+    /// Names of the changed settings that only take effect on restart.
+    pub fn pending_restart(&self, settings: &SandboxSettings) -> Vec<&'static str> {
+        let built = &self.built_with;
+        let mut pending = Vec::new();
+        if settings.body_count != built.body_count {
+            pending.push("body count");
+        }
+        if settings.seed != built.seed {
+            pending.push("seed");
+        }
+        if settings.scenario != built.scenario {
+            pending.push("scenario");
+        }
+        pending
+    }
+}
+
+/// Builds the scene at start and whenever a restart is asked for.
+pub struct ScenePlugin;
+
+impl Plugin for ScenePlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(Update, restart_scene.in_set(SandboxSystems::BuildScene));
+    }
+}
+
+/// Why the scene could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scenario is unusable.
+    #[error(transparent)]
+    Scenario(#[from] InputError),
+    /// A body count was chosen for a scenario without generators.
+    #[error(transparent)]
+    NoGenerators(#[from] NoGenerators),
+}
+
+/// The bodies a restart builds: the scenario with the chosen seed and body
+/// count, and the physics it runs with.
+pub fn build_bodies(
+    scenario: &Scenario,
+    settings: &SandboxSettings,
+) -> Result<(Vec<BodyState>, SimulationSettings), SceneError> {
+    let mut scenario = scenario.clone();
+    scenario.seed = settings.seed;
+    if let Some(count) = settings.body_count {
+        scenario = scenario.with_generated(count)?;
+    }
+    let bodies = scenario.bodies()?;
+    let mut physics = scenario.settings();
+    settings.apply_physics(&mut physics);
+    Ok((bodies, physics))
+}
+
+/// Reads a newly picked scenario into the state and takes its own seed and
+/// shatter values into the settings.
+fn load_picked_scenario(world: &mut World, settings: &mut SandboxSettings) -> Result<(), InputError> {
+    let scenario = Scenario::load_or_default(settings.scenario.as_deref())?;
+    settings.adopt_scenario(&scenario.settings());
+    world.insert_resource(settings.clone());
+    let mut state = world.resource_mut::<SandboxState>();
+    state.scenario = scenario;
+    state.loaded_path = settings.scenario.clone();
+    Ok(())
+}
+
+/// Rebuilds the scene when a restart is requested: all bodies despawned,
+/// the scenario's bodies spawned with the current settings. On an error the
+/// running scene stays and the panel shows the error.
+pub fn restart_scene(world: &mut World) {
+    if !std::mem::take(&mut world.resource_mut::<SandboxState>().restart_requested) {
+        return;
+    }
+    let mut settings = world.resource::<SandboxSettings>().clone();
+    let picked = settings.scenario != world.resource::<SandboxState>().loaded_path;
+    let loaded = if picked {
+        load_picked_scenario(world, &mut settings).map_err(SceneError::from)
+    } else {
+        Ok(())
+    };
+    let built = loaded.and_then(|()| build_bodies(&world.resource::<SandboxState>().scenario, &settings));
+    let (bodies, physics) = match built {
+        Ok(built) => built,
+        Err(e) => {
+            warn!("{e}");
+            world.resource_mut::<SandboxState>().error = Some(e.to_string());
+            return;
+        }
+    };
+    let old: Vec<Entity> = world.query_filtered::<Entity, With<BodyId>>().iter(world).collect();
+    for entity in old {
+        world.despawn(entity);
+    }
+    let next = spawn_bodies(world, &bodies);
+    world.insert_resource(physics);
+    *world.resource_mut::<CollisionStats>() = CollisionStats::default();
+    world.resource_mut::<OverlappingPairs>().0.clear();
+    world.resource_mut::<StageTimings>().reset();
+    let mut state = world.resource_mut::<SandboxState>();
+    state.error = None;
+    state.built_with = settings;
+    state.first_fragment_id = next;
+    state.generation += 1;
+    info!("scene built: {} bodies", bodies.len());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn restart_builds_the_chosen_body_count_and_seed() {
+        let scenario = Scenario::builtin_default();
+        let settings = SandboxSettings {
+            body_count: Some(500),
+            seed: 7,
+            ..SandboxSettings::default()
+        };
+        let (bodies, physics) = build_bodies(&scenario, &settings).unwrap();
+        assert_eq!(bodies.len(), scenario.bodies.len() + 500);
+        assert_eq!(physics.seed, 7);
+        let other = SandboxSettings { seed: 8, ..settings };
+        let (reseeded, _) = build_bodies(&scenario, &other).unwrap();
+        assert_ne!(bodies, reseeded, "the seed reaches the generators");
+    }
+
+    #[test]
+    fn live_switches_reach_the_physics() {
+        let scenario = Scenario::builtin_default();
+        let settings = SandboxSettings {
+            body_count: Some(10),
+            gravity: false,
+            collision_response: false,
+            shatter_fragments: 9,
+            shatter_threshold: 1.5,
+            ..SandboxSettings::default()
+        };
+        let (_, physics) = build_bodies(&scenario, &settings).unwrap();
+        assert!(!physics.gravity && physics.collisions && !physics.collision_response);
+        assert_eq!((physics.shatter_fragments, physics.shatter_threshold), (9, 1.5));
+        assert_eq!(physics.time_step, scenario.time_step);
+    }
+
+    #[test]
+    fn a_scenario_without_generators_refuses_a_body_count() {
+        let text = "Scenario(bodies: [Body(position: (0.0, 0.0, 0.0))])";
+        let scenario = Scenario::parse(text, "one.ron").unwrap();
+        let settings = SandboxSettings {
+            body_count: Some(10),
+            ..SandboxSettings::default()
+        };
+        let err = build_bodies(&scenario, &settings).unwrap_err().to_string();
+        assert!(err.contains("one.ron") && err.contains("generators"), "{err}");
+    }
+
+    #[test]
+    fn restart_only_settings_are_reported_as_pending() {
+        let settings = SandboxSettings::default();
+        let state = SandboxState::new(Scenario::builtin_default(), &settings);
+        let changed = SandboxSettings {
+            seed: 42,
+            gravity: false,
+            updates_per_second: 300,
+            ..settings
+        };
+        assert_eq!(state.pending_restart(&changed), vec!["seed"]);
+    }
+
+    /// A world with what [`restart_scene`] touches, no renderer.
+    fn sandbox_world(settings: SandboxSettings) -> World {
+        let mut app = App::new();
+        app.add_plugins((MinimalPlugins, crate::systems::SimulationPlugins))
+            .insert_resource(crate::execution::Execution::new(settings.mode, 1).unwrap());
+        let state = SandboxState::new(Scenario::builtin_default(), &settings);
+        app.insert_resource(settings).insert_resource(state);
+        std::mem::take(app.world_mut())
+    }
+
+    fn body_count(world: &mut World) -> usize {
+        world.query::<&BodyId>().iter(world).len()
+    }
+
+    #[test]
+    fn restart_replaces_the_bodies_and_switches_scenarios() {
+        let settings = SandboxSettings {
+            body_count: Some(300),
+            ..SandboxSettings::default()
+        };
+        let mut world = sandbox_world(settings);
+        restart_scene(&mut world);
+        assert_eq!(body_count(&mut world), 302, "planet, moon and 300 debris");
+
+        // Pick another scenario and restart: the old bodies are gone, the
+        // scenario's own seed is taken.
+        let two_body = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron"));
+        {
+            let mut settings = world.resource_mut::<SandboxSettings>();
+            settings.scenario = Some(two_body.clone());
+            settings.body_count = None;
+            settings.seed = 12345;
+        }
+        world.resource_mut::<SandboxState>().restart_requested = true;
+        restart_scene(&mut world);
+        let state = world.resource::<SandboxState>();
+        assert!(state.error.is_none(), "{:?}", state.error);
+        assert_eq!(state.loaded_path.as_deref(), Some(two_body.as_path()));
+        assert_eq!(state.generation, 2);
+        assert_ne!(world.resource::<SandboxSettings>().seed, 12345);
+        assert_eq!(body_count(&mut world), 2);
+    }
+
+    #[test]
+    fn a_broken_scenario_pick_keeps_the_running_scene() {
+        let dir = tempfile::tempdir().unwrap();
+        let broken = dir.path().join("broken.ron");
+        std::fs::write(&broken, "Scenario(bodies: [Body(mass: -1.0)])").unwrap();
+        let settings = SandboxSettings {
+            body_count: Some(50),
+            ..SandboxSettings::default()
+        };
+        let mut world = sandbox_world(settings);
+        restart_scene(&mut world);
+        world.resource_mut::<SandboxSettings>().scenario = Some(broken);
+        world.resource_mut::<SandboxState>().restart_requested = true;
+        restart_scene(&mut world);
+        let error = world.resource::<SandboxState>().error.clone().expect("an error");
+        assert!(error.contains("broken.ron") && error.contains("mass"), "{error}");
+        assert_eq!(body_count(&mut world), 52, "the running scene stays");
+    }
 }

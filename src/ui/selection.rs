@@ -4,14 +4,25 @@
 use bevy::prelude::*;
 use bevy_egui::input::EguiWantsInput;
 
+use super::main_camera::MainCamera;
+use super::sets::SandboxSystems;
 use crate::components::{BodyId, GravityRole, HalfExtents, Mass, Position, Velocity};
-
-use super::camera::MainCamera;
 
 /// The selected body, if any.
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct Selection {
+    /// Its entity (which may have shattered since).
     pub entity: Option<Entity>,
+}
+
+/// Picking a body with the mouse.
+pub struct SelectionPlugin;
+
+impl Plugin for SelectionPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<Selection>()
+            .add_systems(Update, select_on_click.in_set(SandboxSystems::View));
+    }
 }
 
 /// Cursor travel in pixels up to which a press and release count as a click
@@ -65,7 +76,10 @@ pub fn select_on_click(
     let Ok(ray) = camera.viewport_to_world(camera_transform, end) else {
         return;
     };
-    let candidates: Vec<(Entity, Vec3, Vec3)> = bodies.iter().map(|(e, t, h)| (e, t.0, h.0)).collect();
+    let candidates: Vec<(Entity, Vec3, Vec3)> = bodies
+        .iter()
+        .map(|(entity, position, half)| (entity, position.0, half.0))
+        .collect();
     let hit = nearest_hit(ray.origin, *ray.direction, candidates.iter().map(|&(_, c, h)| (c, h)));
     selection.entity = hit.map(|(i, _)| candidates[i].0);
 }
@@ -73,10 +87,15 @@ pub fn select_on_click(
 /// What the panel shows of the selected body.
 #[derive(Clone, Copy, Debug)]
 pub struct SelectedInfo {
+    /// Its id.
     pub id: BodyId,
+    /// Its mass.
     pub mass: f32,
+    /// Its speed, length units per unit of time.
     pub speed: f32,
+    /// Where it is.
     pub position: Vec3,
+    /// Its gravity role.
     pub role: GravityRole,
 }
 
@@ -88,11 +107,11 @@ pub fn selected_info(
 ) -> Option<SelectedInfo> {
     let entity = selection.entity?;
     match bodies.get(entity) {
-        Ok((id, mass, velocity, transform, role)) => Some(SelectedInfo {
+        Ok((id, mass, velocity, position, role)) => Some(SelectedInfo {
             id: *id,
             mass: mass.0,
             speed: velocity.0.length(),
-            position: transform.0,
+            position: position.0,
             role: *role,
         }),
         Err(_) => {

@@ -4,7 +4,7 @@ use std::time::Duration;
 
 use bevy::prelude::*;
 
-use crate::systems::SimulationSystems;
+use super::{STAGE_COUNT, SimulationSystems};
 
 /// Last and mean duration of one kind of work, in nanoseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -30,16 +30,18 @@ impl Timing {
 /// Per-stage timings of the simulation, and of whole updates.
 #[derive(Resource, Clone, Debug, Default)]
 pub struct StageTimings {
-    stages: [Timing; SimulationSystems::ALL.len()],
+    stages: [Timing; STAGE_COUNT],
     /// One whole update, all stages and scheduling included.
     pub update: Timing,
 }
 
 impl StageTimings {
+    /// The timing of one stage.
     pub fn stage(&self, stage: SimulationSystems) -> &Timing {
         &self.stages[stage as usize]
     }
 
+    /// Adds a sample of `stage`.
     pub fn record(&mut self, stage: SimulationSystems, elapsed: Duration) {
         self.stages[stage as usize].record(elapsed);
     }

@@ -1,52 +1,23 @@
-//! Sequential or parallel execution of the simulation kernels, chosen at run
-//! time — the one place that decides how a kernel is driven.
-//!
-//! Every stage writes its logic once as a kernel over slices. [`Execution`]
-//! either calls that kernel on the whole data (sequential) or splits the data
-//! into contiguous chunks and calls the same kernel on each chunk from a rayon
-//! pool of exactly `threads` threads (parallel). Results of chunked maps are
-//! returned in input order, so reductions and collects see the same sequence
-//! in both modes and the state stays bit-identical.
+//! [`Execution`]: the execution mode, the worker pool, and the one helper
+//! that drives a kernel whole or in chunks.
 
 use std::fmt;
-use std::ops::Range;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, PoisonError};
-
-use super::KeepWarm;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy::prelude::*;
-use serde::{Deserialize, Serialize};
 
-/// How the simulation stages run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-pub enum ExecutionMode {
-    /// Every stage on the calling thread.
-    Sequential,
-    /// Stages split into chunks on a pool of worker threads (falling back to
-    /// sequential where the work is too small to pay for the dispatch).
-    #[default]
-    Parallel,
-}
-
-impl ExecutionMode {
-    /// Lower-case name as used on the command line and in CSV files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Sequential => "sequential",
-            Self::Parallel => "parallel",
-        }
-    }
-}
-
-impl fmt::Display for ExecutionMode {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+use super::claims::{CHUNKS_PER_THREAD, Claims};
+use super::keep_warm::KeepWarm;
+use super::{ExecutionMode, Split};
 
 /// Most worker threads a pool may have.
 pub const MAX_THREADS: usize = 256;
+
+/// Hardware threads of this machine (1 if unknown).
+pub fn available_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
 
 /// The execution mode, thread count and worker pool of the simulation.
 #[derive(Resource, Clone)]
@@ -57,8 +28,9 @@ pub struct Execution {
     fine_grained: bool,
     /// Set whenever work was split since the last [`install`](Self::install).
     split_recently: Arc<AtomicBool>,
-    /// Keeps the pool's other workers awake between the steps of an update.
-    warm: Arc<KeepWarm>,
+    /// Keeps the pool's other workers awake between the steps of an update;
+    /// `None` where polling would steal cores from something else.
+    warm: Option<Arc<KeepWarm>>,
 }
 
 impl fmt::Debug for Execution {
@@ -66,6 +38,7 @@ impl fmt::Debug for Execution {
         f.debug_struct("Execution")
             .field("mode", &self.mode)
             .field("threads", &self.threads())
+            .field("keep_warm", &self.warm.is_some())
             .finish()
     }
 }
@@ -73,24 +46,29 @@ impl fmt::Debug for Execution {
 /// The worker pool could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum ExecutionError {
+    /// Fewer than one or more than [`MAX_THREADS`] threads were asked for.
     #[error("thread count must be between 1 and {MAX_THREADS}, got {0}")]
     BadThreadCount(usize),
+    /// The operating system would not start the threads.
     #[error("could not start {threads} worker threads: {source}")]
     Pool {
+        /// Threads asked for.
         threads: usize,
+        /// Why rayon could not build the pool.
         source: rayon::ThreadPoolBuildError,
     },
 }
 
 impl Execution {
-    /// A pool of `threads` workers used in `mode`.
+    /// A pool of `threads` workers used in `mode`, keeping its workers warm
+    /// between steps.
     pub fn new(mode: ExecutionMode, threads: usize) -> Result<Self, ExecutionError> {
         Ok(Self {
             mode,
             pool: Arc::new(build_pool(threads)?),
             fine_grained: false,
             split_recently: Arc::new(AtomicBool::new(true)),
-            warm: Arc::default(),
+            warm: Some(Arc::default()),
         })
     }
 
@@ -107,10 +85,21 @@ impl Execution {
         self
     }
 
+    /// Whether idle workers keep polling for a moment after each parallel
+    /// step ([`WARM_FOR`](super::WARM_FOR)). On by default: it saves the
+    /// wake-ups between the steps of an update. Off where other work needs
+    /// the cores between updates (the window's renderer).
+    pub fn with_keep_warm(mut self, on: bool) -> Self {
+        self.warm = on.then(Arc::default);
+        self
+    }
+
+    /// Sequential or parallel.
     pub fn mode(&self) -> ExecutionMode {
         self.mode
     }
 
+    /// Switches the mode; takes effect at the next step.
     pub fn set_mode(&mut self, mode: ExecutionMode) {
         self.mode = mode;
     }
@@ -120,11 +109,21 @@ impl Execution {
         self.pool.current_num_threads()
     }
 
+    /// Threads a step really runs on: 1 in sequential mode.
+    pub fn threads_used(&self) -> usize {
+        match self.mode {
+            ExecutionMode::Sequential => 1,
+            ExecutionMode::Parallel => self.threads(),
+        }
+    }
+
     /// Replaces the worker pool; a no-op if the count is unchanged.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), ExecutionError> {
         if threads != self.threads() {
             self.pool = Arc::new(build_pool(threads)?);
-            self.warm = Arc::default();
+            if self.warm.is_some() {
+                self.warm = Some(Arc::default());
+            }
         }
         Ok(())
     }
@@ -132,7 +131,7 @@ impl Execution {
     /// Runs `f` on a worker of the pool in parallel mode when work was split
     /// since the last call (the caller waits), else inline. A whole update
     /// runs this way: when its stages split work, their serial parts then
-    /// run on a worker too, so the idle workers, which spin a while before
+    /// run on a worker too, so the idle workers, which poll a while before
     /// sleeping, do not compete with the calling thread for the cores, and
     /// every dispatch is a cheap in-pool fork; when nothing splits, waking a
     /// worker for the update would only cost time. Either way the results
@@ -167,114 +166,14 @@ impl Execution {
             return vec![kernel(data)];
         }
         self.split_recently.store(true, Ordering::Relaxed);
-        // A few chunks per thread, claimed in turn, even out uneven chunks.
         let chunk = grain.max(len.div_ceil(self.threads() * CHUNKS_PER_THREAD));
         let claims = Claims::new(data, chunk);
         self.pool.install(|| claims.run(&kernel));
-        self.warm.after_step(&self.pool);
+        if let Some(warm) = &self.warm {
+            warm.after_step(&self.pool);
+        }
         claims.into_results()
     }
-}
-
-/// Chunks per worker thread of a parallel step.
-const CHUNKS_PER_THREAD: usize = 4;
-
-/// The chunks of one parallel step: each is claimed by the next free thread
-/// and its result stored in its slot, so the results keep input order
-/// whichever thread ran which chunk.
-struct Claims<S, R> {
-    /// Each chunk's data until claimed, then its result.
-    slots: Vec<Mutex<(Option<S>, Option<R>)>>,
-    /// The next chunk to claim.
-    next: AtomicUsize,
-    /// Chunks finished (or panicked).
-    finished: AtomicUsize,
-}
-
-impl<S: Split, R: Send> Claims<S, R> {
-    /// `data` cut into contiguous chunks of `chunk` items (the last may be
-    /// shorter).
-    fn new(mut data: S, chunk: usize) -> Self {
-        let mut slots = Vec::with_capacity(data.len().div_ceil(chunk));
-        while data.len() > chunk {
-            let (head, tail) = data.split_at(chunk);
-            slots.push(Mutex::new((Some(head), None)));
-            data = tail;
-        }
-        slots.push(Mutex::new((Some(data), None)));
-        Self {
-            slots,
-            next: AtomicUsize::new(0),
-            finished: AtomicUsize::new(0),
-        }
-    }
-
-    /// Runs every chunk on this worker and as many other workers as there
-    /// are chunks to share, and returns once all chunks are done. The
-    /// calling thread waits for the last chunks of the others spinning, not
-    /// asleep: on a virtual machine, waking a sleeping thread costs tens of
-    /// microseconds, more than the wait it ends.
-    fn run<K: Fn(S) -> R + Sync>(&self, kernel: &K) {
-        let helpers = rayon::current_num_threads().min(self.slots.len()) - 1;
-        rayon::scope(|scope| {
-            for _ in 0..helpers {
-                scope.spawn(|_| self.claim_all(kernel));
-            }
-            self.claim_all(kernel);
-            let mut spins = 0u32;
-            while self.finished.load(Ordering::Acquire) < self.slots.len() {
-                spins += 1;
-                if spins < SPINS_BEFORE_YIELD {
-                    std::hint::spin_loop();
-                } else {
-                    std::thread::yield_now();
-                }
-            }
-        });
-    }
-
-    /// Claims and runs chunks until none is left.
-    fn claim_all<K: Fn(S) -> R + Sync>(&self, kernel: &K) {
-        loop {
-            let index = self.next.fetch_add(1, Ordering::Relaxed);
-            let Some(slot) = self.slots.get(index) else {
-                return;
-            };
-            // Counts the chunk as finished even if the kernel panics, so the
-            // waiting thread stops waiting and the scope passes the panic on.
-            let _finish = Finish(&self.finished);
-            let data = lock(slot).0.take().expect("each chunk is claimed once");
-            let result = kernel(data);
-            lock(slot).1 = Some(result);
-        }
-    }
-
-    fn into_results(self) -> Vec<R> {
-        self.slots
-            .into_iter()
-            .map(|slot| {
-                let (_, result) = slot.into_inner().unwrap_or_else(PoisonError::into_inner);
-                result.expect("every chunk ran")
-            })
-            .collect()
-    }
-}
-
-/// Spins of a thread waiting for other threads' chunks before it starts
-/// yielding its core (each spin is a few nanoseconds).
-const SPINS_BEFORE_YIELD: u32 = 100_000;
-
-/// Adds one to the finished count when dropped.
-struct Finish<'a>(&'a AtomicUsize);
-
-impl Drop for Finish<'_> {
-    fn drop(&mut self) {
-        self.0.fetch_add(1, Ordering::Release);
-    }
-}
-
-fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    mutex.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 fn build_pool(threads: usize) -> Result<rayon::ThreadPool, ExecutionError> {
@@ -288,76 +187,10 @@ fn build_pool(threads: usize) -> Result<rayon::ThreadPool, ExecutionError> {
         .map_err(|source| ExecutionError::Pool { threads, source })
 }
 
-/// Hardware threads of this machine (1 if unknown).
-pub fn available_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
-}
-
-/// Data that can be cut into two contiguous parts: slices, index ranges and
-/// tuples of equally long ones (the columns of one ECS table).
-pub trait Split: Sized + Send {
-    /// Number of items.
-    fn len(&self) -> usize;
-    /// True when there are no items.
-    fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-    /// The first `mid` items and the rest.
-    fn split_at(self, mid: usize) -> (Self, Self);
-}
-
-impl<T: Sync> Split for &[T] {
-    fn len(&self) -> usize {
-        <[T]>::len(self)
-    }
-    fn split_at(self, mid: usize) -> (Self, Self) {
-        <[T]>::split_at(self, mid)
-    }
-}
-
-impl<T: Send> Split for &mut [T] {
-    fn len(&self) -> usize {
-        <[T]>::len(self)
-    }
-    fn split_at(self, mid: usize) -> (Self, Self) {
-        self.split_at_mut(mid)
-    }
-}
-
-impl Split for Range<usize> {
-    fn len(&self) -> usize {
-        self.end.saturating_sub(self.start)
-    }
-    fn split_at(self, mid: usize) -> (Self, Self) {
-        let cut = self.start + mid;
-        (self.start..cut, cut..self.end)
-    }
-}
-
-macro_rules! impl_split_for_tuple {
-    ($($column:ident . $index:tt),+) => {
-        impl<$($column: Split),+> Split for ($($column,)+) {
-            fn len(&self) -> usize {
-                let len = self.0.len();
-                $(debug_assert_eq!(self.$index.len(), len, "split columns differ in length");)+
-                len
-            }
-            fn split_at(self, mid: usize) -> (Self, Self) {
-                let halves = ($(self.$index.split_at(mid),)+);
-                (($(halves.$index.0,)+), ($(halves.$index.1,)+))
-            }
-        }
-    };
-}
-
-impl_split_for_tuple!(A.0, B.1);
-impl_split_for_tuple!(A.0, B.1, C.2);
-impl_split_for_tuple!(A.0, B.1, C.2, D.3);
-impl_split_for_tuple!(A.0, B.1, C.2, D.3, E.4);
-impl_split_for_tuple!(A.0, B.1, C.2, D.3, E.4, F.5);
-
 #[cfg(test)]
 mod tests {
+    use std::ops::Range;
+
     use super::*;
 
     #[test]
@@ -421,11 +254,23 @@ mod tests {
     }
 
     #[test]
+    fn without_keep_warm_the_results_are_the_same() {
+        let warm = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        let cold = warm.clone().with_keep_warm(false);
+        let sums =
+            |e: &Execution| -> Vec<u64> { e.map_chunks(0..100_000, 1000, |r: Range<usize>| r.map(|i| i as u64).sum()) };
+        assert_eq!(sums(&warm), sums(&cold));
+    }
+
+    #[test]
     fn thread_count_is_checked() {
         assert!(Execution::new(ExecutionMode::Parallel, 0).is_err());
         assert!(Execution::new(ExecutionMode::Parallel, MAX_THREADS + 1).is_err());
         let mut exec = Execution::new(ExecutionMode::Parallel, 1).unwrap();
         exec.set_threads(3).unwrap();
         assert_eq!(exec.threads(), 3);
+        assert_eq!(exec.threads_used(), 3);
+        exec.set_mode(ExecutionMode::Sequential);
+        assert_eq!(exec.threads_used(), 1);
     }
 }

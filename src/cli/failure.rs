@@ -1,0 +1,104 @@
+//! [`Failure`]: how a command fails — one line for stderr and an exit code —
+//! and how the typed errors of the library become one.
+
+use std::fmt;
+
+use crate::bench::{BenchOutputError, RunError};
+use crate::execution::ExecutionError;
+use crate::input::InputError;
+use crate::output::{OutputError, WriteError};
+use crate::scenario::NoGenerators;
+
+/// Exit code for bad input (arguments, scenario files, output paths).
+pub const EXIT_BAD_INPUT: u8 = 2;
+
+/// Exit code for a failure that is not the input's fault (a disk that
+/// fills up, a window that cannot open).
+pub const EXIT_FAILURE: u8 = 1;
+
+/// Why a command failed: one line for stderr and an exit code.
+#[derive(Debug)]
+pub struct Failure {
+    /// The line, without the `kessler: error: ` prefix.
+    pub message: String,
+    /// The process's exit code.
+    pub code: u8,
+}
+
+impl Failure {
+    /// Bad user input: exit code 2.
+    pub fn input(message: impl fmt::Display) -> Self {
+        Self {
+            message: message.to_string(),
+            code: EXIT_BAD_INPUT,
+        }
+    }
+
+    /// Anything else: exit code 1.
+    pub fn other(message: impl fmt::Display) -> Self {
+        Self {
+            message: message.to_string(),
+            code: EXIT_FAILURE,
+        }
+    }
+
+    /// The same failure with `context` (an option, a file) before its message.
+    pub fn context(self, context: impl fmt::Display) -> Self {
+        Self {
+            message: format!("{context}: {}", self.message),
+            ..self
+        }
+    }
+}
+
+/// The typed errors a command may end with, by exit code.
+macro_rules! failure_from {
+    ($code:expr => $($error:ty),*) => {$(
+        impl From<$error> for Failure {
+            fn from(e: $error) -> Self {
+                Self {
+                    message: e.to_string(),
+                    code: $code,
+                }
+            }
+        }
+    )*};
+}
+
+failure_from!(EXIT_BAD_INPUT => InputError, OutputError, NoGenerators, ExecutionError, RunError);
+failure_from!(EXIT_FAILURE => WriteError, BenchOutputError);
+
+#[cfg(feature = "gui")]
+impl From<crate::ui::WindowError> for Failure {
+    fn from(e: crate::ui::WindowError) -> Self {
+        let code = match e {
+            crate::ui::WindowError::App(code) => code,
+            _ => EXIT_BAD_INPUT,
+        };
+        Self {
+            message: e.to_string(),
+            code,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn input_errors_exit_2_and_write_errors_exit_1() {
+        let bad: Failure = InputError::new("f.ron", "field `mass`: must be > 0").into();
+        assert_eq!(
+            (bad.code, bad.message.as_str()),
+            (2, "f.ron: field `mass`: must be > 0")
+        );
+        let write: Failure = WriteError {
+            path: "out.csv".into(),
+            source: std::io::Error::other("disk full"),
+        }
+        .into();
+        assert_eq!((write.code, write.message.as_str()), (1, "out.csv: disk full"));
+        assert_eq!(bad.context("--x").message, "--x: f.ron: field `mass`: must be > 0");
+    }
+}

@@ -1,0 +1,53 @@
+//! Sequential or parallel execution of the simulation kernels, switchable at
+//! run time with bit-identical results — the project's parallel runtime.
+//!
+//! Every stage writes its logic once, as a *kernel*: a plain function over a
+//! [`Split`] input (slices, index ranges, or tuples of a table's columns).
+//! [`Execution`] calls that kernel either once on everything (sequential, or
+//! too little work to share) or on contiguous chunks from a pool of exactly
+//! `threads` worker threads, and hands the chunks' results back in input
+//! order. There is no second, parallel copy of any algorithm.
+//!
+//! # The rules a kernel follows to stay bit-identical
+//!
+//! 1. **Any cut, same bits.** A kernel may be called on the whole input or
+//!    on any contiguous chunks of it, in any order, on any thread. What it
+//!    computes for an item depends only on that item and on shared data it
+//!    only reads — never on which other items share its chunk.
+//! 2. **Reductions go through the ordered results.** A kernel that reduces
+//!    (counts, bounds, collected pairs) returns its chunk's part; the caller
+//!    combines the parts from [`Execution::map_chunks`] in the order given,
+//!    which is input order. Floats are never summed across items inside a
+//!    chunk and then across chunks: that would round differently for every
+//!    cut. Exact reductions (min, max, counts, concatenation) are fine.
+//! 3. **No shared mutable state.** Chunks write only what they were handed
+//!    (`&mut` slices cut by [`Split`]); no atomics on floats, no locks
+//!    around results.
+//! 4. **Structural changes stay serial.** Spawning, despawning and handing
+//!    out ids happen on one thread in a fixed order (e.g. pair order).
+//! 5. **Grains are hints.** A kernel gets chunks of at least its `grain`
+//!    items and runs whole below two grains. Results must not depend on the
+//!    grain: tests run every kernel with one-item chunks
+//!    ([`Execution::fine_grained`]).
+//!
+//! # How a parallel step runs
+//!
+//! [`claims`] cuts the input into about four chunks per thread, which the
+//! threads claim in turn from a shared counter; the thread that started the
+//! step waits for the others' last chunks spinning, not asleep, because on
+//! the virtual machines this runs on, waking a sleeping thread costs tens of
+//! microseconds. After a step, [`keep_warm`] keeps the idle workers polling
+//! for a millisecond, so the next step of the same update finds them awake.
+//! Why a pool of our own rather than Bevy's `ComputeTaskPool` or `par_iter`:
+//! see ARCHITECTURE.md, "Parallel execution".
+
+mod claims;
+mod keep_warm;
+mod mode;
+mod pool;
+mod split;
+
+pub use keep_warm::WARM_FOR;
+pub use mode::*;
+pub use pool::*;
+pub use split::*;

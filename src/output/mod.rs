@@ -1,0 +1,9 @@
+//! Writing what the program produces — dumps, benchmark results, plots,
+//! settings, screenshots — without ever leaving half a file, and checking
+//! before any work that it can be written.
+
+mod atomic;
+mod check;
+
+pub use atomic::*;
+pub use check::*;

@@ -1,0 +1,130 @@
+//! Where the broad phase reads its boxes: a plain slice, or the bodies'
+//! table columns in place (so a million bodies need no copy of their boxes).
+
+use std::ops::Range;
+
+use bevy::prelude::*;
+
+use super::Aabb;
+use crate::components::{BodyId, HalfExtents, Position};
+
+/// A sequence of boxes the broad phase can read in order.
+pub trait BoxSource: Sync {
+    /// Number of boxes.
+    fn len(&self) -> usize;
+
+    /// Calls `f` with the index and box of every box in `range`, in order.
+    fn for_each_in(&self, range: Range<usize>, f: impl FnMut(usize, Aabb));
+
+    /// True when there are no boxes.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl BoxSource for [Aabb] {
+    fn len(&self) -> usize {
+        <[Aabb]>::len(self)
+    }
+
+    #[inline]
+    fn for_each_in(&self, range: Range<usize>, mut f: impl FnMut(usize, Aabb)) {
+        let first = range.start;
+        for (k, &aabb) in self[range].iter().enumerate() {
+            f(first + k, aabb);
+        }
+    }
+}
+
+/// One table's columns the broad phase reads.
+pub type TableColumns<'a> = (&'a [Entity], &'a [BodyId], &'a [Position], &'a [HalfExtents]);
+
+/// The bodies' table columns read as one sequence, table after table.
+pub struct BodyColumns<'a> {
+    /// Index of each table's first body.
+    starts: Vec<usize>,
+    tables: Vec<TableColumns<'a>>,
+    len: usize,
+}
+
+impl<'a> BodyColumns<'a> {
+    /// The tables in the order given.
+    pub fn new(tables: impl Iterator<Item = TableColumns<'a>>) -> Self {
+        let (mut starts, mut all, mut len) = (Vec::new(), Vec::new(), 0);
+        for table in tables {
+            starts.push(len);
+            len += table.0.len();
+            all.push(table);
+        }
+        Self {
+            starts,
+            tables: all,
+            len,
+        }
+    }
+
+    /// The table and row of the body with this index.
+    #[inline]
+    fn locate(&self, index: usize) -> (usize, usize) {
+        // Bodies usually share one table; then this is one comparison.
+        let table = if self.starts.len() == 1 {
+            0
+        } else {
+            self.starts.partition_point(|&s| s <= index) - 1
+        };
+        (table, index - self.starts[table])
+    }
+
+    /// The id and entity of the body with this index.
+    pub fn body(&self, index: usize) -> (BodyId, Entity) {
+        let (table, row) = self.locate(index);
+        (self.tables[table].1[row], self.tables[table].0[row])
+    }
+}
+
+impl BoxSource for BodyColumns<'_> {
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Walks the columns table by table, without locating every index.
+    #[inline]
+    fn for_each_in(&self, range: Range<usize>, mut f: impl FnMut(usize, Aabb)) {
+        for (&start, &(_, _, positions, halves)) in self.starts.iter().zip(&self.tables) {
+            let end = start + positions.len();
+            let (from, to) = (range.start.max(start), range.end.min(end));
+            if from >= to {
+                continue;
+            }
+            let rows = from - start..to - start;
+            for (k, (p, h)) in positions[rows.clone()].iter().zip(&halves[rows]).enumerate() {
+                f(from + k, Aabb::new(p.0, h.0));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn columns_of_several_tables_read_as_one_sequence() {
+        let entities: Vec<Entity> = (1..=5).map(Entity::from_raw_u32).map(Option::unwrap).collect();
+        let ids: Vec<BodyId> = (0..5).map(BodyId).collect();
+        let positions: Vec<Position> = (0..5).map(|i| Position(Vec3::splat(i as f32))).collect();
+        let halves = [HalfExtents(Vec3::ONE); 5];
+        let columns = BodyColumns::new(
+            [
+                (&entities[..2], &ids[..2], &positions[..2], &halves[..2]),
+                (&entities[2..], &ids[2..], &positions[2..], &halves[2..]),
+            ]
+            .into_iter(),
+        );
+        assert_eq!(columns.len(), 5);
+        let mut seen = Vec::new();
+        columns.for_each_in(1..4, |i, b| seen.push((i, b.min.x)));
+        assert_eq!(seen, [(1, 0.0), (2, 1.0), (3, 2.0)]);
+        assert_eq!(columns.body(3), (BodyId(3), entities[3]));
+    }
+}

@@ -1,0 +1,153 @@
+//! The sort step of the broad phase: boxes filed by grid cell with a stable
+//! counting sort, chunk by chunk, into buffers kept between updates.
+
+use std::ops::Range;
+use std::sync::{Mutex, PoisonError};
+
+use bevy::prelude::*;
+
+use super::grid::Grid;
+use super::{Aabb, BoxSource};
+
+/// A box filed under a grid cell: its index in the input and its corners.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CellBox {
+    /// Index of the box in the broad phase's input.
+    pub index: u32,
+    /// Its corners.
+    pub aabb: Aabb,
+}
+
+/// One chunk's boxes filed by cell: `boxes[starts[c]..starts[c + 1]]` are
+/// the chunk's boxes in cell `c`, in input order.
+#[derive(Default)]
+pub struct FiledChunk {
+    starts: Vec<u32>,
+    cursor: Vec<u32>,
+    /// The one cell of each box in the chunk, or [`SEVERAL_CELLS`].
+    cells: Vec<u32>,
+    boxes: Vec<CellBox>,
+}
+
+impl FiledChunk {
+    /// The chunk's boxes in `cell`, in input order.
+    #[inline]
+    pub fn in_cell(&self, cell: usize) -> &[CellBox] {
+        &self.boxes[self.starts[cell] as usize..self.starts[cell + 1] as usize]
+    }
+}
+
+/// Noted for a box that covers more than one cell.
+const SEVERAL_CELLS: u32 = u32::MAX;
+
+/// Buffers of the broad phase, kept between updates so that a million boxes
+/// do not fault in fresh pages every update: about 28 bytes per box (a box
+/// is filed once per cell it covers, mostly one).
+#[derive(Default)]
+pub struct SweepScratch {
+    spare: Mutex<Vec<FiledChunk>>,
+}
+
+impl SweepScratch {
+    /// A chunk's buffers, reused if any are spare.
+    pub(super) fn take(&self) -> FiledChunk {
+        self.spare
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .pop()
+            .unwrap_or_default()
+    }
+
+    /// Keeps the chunks' buffers for the next update.
+    pub(super) fn give_back(&self, chunks: Vec<FiledChunk>) {
+        self.spare.lock().unwrap_or_else(PoisonError::into_inner).extend(chunks);
+    }
+}
+
+/// Kernel: the bounds of the lower y–z corners of the boxes in `range`.
+pub fn corner_bounds<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>) -> (Vec2, Vec2) {
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+    boxes.for_each_in(range, |_, b| {
+        let corner = Vec2::new(b.min.y, b.min.z);
+        lo = lo.min(corner);
+        hi = hi.max(corner);
+    });
+    (lo, hi)
+}
+
+/// Kernel: files the boxes in `range` under every cell they cover (a stable
+/// counting sort by cell: count, then place), into the reused `out`.
+pub fn file_by_cell<B: BoxSource + ?Sized>(
+    boxes: &B,
+    range: Range<usize>,
+    grid: &Grid,
+    mut out: FiledChunk,
+) -> FiledChunk {
+    let FiledChunk {
+        starts,
+        cursor,
+        cells,
+        boxes: filed,
+    } = &mut out;
+    let cell_count = grid.cell_count();
+    starts.clear();
+    starts.resize(cell_count + 1, 0);
+    // The count pass notes each box's cell, so that the place pass need
+    // not work it out again; a box covering several cells is noted as
+    // `SEVERAL_CELLS` and its cells are worked out again.
+    cells.clear();
+    boxes.for_each_in(range.clone(), |_, aabb| {
+        let mut count = 0;
+        let mut only = 0;
+        grid.for_each_cell(&aabb, |cell| {
+            starts[cell as usize + 1] += 1;
+            count += 1;
+            only = cell;
+        });
+        cells.push(if count == 1 { only } else { SEVERAL_CELLS });
+    });
+    for cell in 0..cell_count {
+        starts[cell + 1] += starts[cell];
+    }
+    cursor.clear();
+    cursor.extend_from_slice(&starts[..cell_count]);
+    // Same length as last update's in a steady state: nothing to write here.
+    filed.resize(starts[cell_count] as usize, CellBox::default());
+    let mut noted = cells.iter();
+    boxes.for_each_in(range, |i, aabb| {
+        let mut place = |cell: u32| {
+            let at = &mut cursor[cell as usize];
+            filed[*at as usize] = CellBox { index: i as u32, aabb };
+            *at += 1;
+        };
+        match noted.next() {
+            Some(&cell) if cell != SEVERAL_CELLS => place(cell),
+            _ => grid.for_each_cell(&aabb, place),
+        }
+    });
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::systems::broad_phase::grid::BOXES_PER_CELL;
+
+    #[test]
+    fn boxes_are_filed_by_cell_in_input_order() {
+        let grid = Grid::fit(Vec2::ZERO, Vec2::splat(4.0), BOXES_PER_CELL * 16);
+        let boxes = [
+            Aabb::new(Vec3::new(0.0, 3.5, 3.5), Vec3::splat(0.1)),
+            Aabb::new(Vec3::new(0.0, 0.5, 0.5), Vec3::splat(0.1)),
+            Aabb::new(Vec3::new(0.0, 2.0, 0.5), Vec3::new(0.1, 1.0, 0.1)),
+            Aabb::new(Vec3::new(0.0, 3.2, 3.6), Vec3::splat(0.1)),
+        ];
+        let filed = file_by_cell(boxes.as_slice(), 0..4, &grid, FiledChunk::default());
+        let indices = |cell: usize| filed.in_cell(cell).iter().map(|b| b.index).collect::<Vec<_>>();
+        assert_eq!(indices(15), [0, 3]);
+        assert_eq!(indices(0), [1]);
+        // The tall box covers three cells on y.
+        assert_eq!((indices(4), indices(8), indices(12)), (vec![2], vec![2], vec![2]));
+        assert_eq!((0..16).map(|c| filed.in_cell(c).len()).sum::<usize>(), 6);
+    }
+}

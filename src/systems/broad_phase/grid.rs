@@ -1,0 +1,112 @@
+//! The grid over y and z that the sweep runs in, one cell at a time.
+
+use bevy::prelude::*;
+
+use super::Aabb;
+
+/// Boxes per grid cell the grid aims for.
+pub const BOXES_PER_CELL: usize = 64;
+
+/// Most cells per axis of the grid.
+const MAX_CELLS_PER_AXIS: usize = 256;
+
+/// A grid over y and z, fitted to the lower corners of the boxes.
+#[derive(Clone, Copy, Debug)]
+pub struct Grid {
+    lo: Vec2,
+    /// Cells per unit length on y and z (0 if all boxes share a coordinate).
+    scale: Vec2,
+    cells_per_axis: u32,
+}
+
+impl Grid {
+    /// A grid for `count` boxes whose lower y–z corners lie in `lo..=hi`.
+    pub fn fit(lo: Vec2, hi: Vec2, count: usize) -> Self {
+        let n = ((count / BOXES_PER_CELL) as f64)
+            .sqrt()
+            .clamp(1.0, MAX_CELLS_PER_AXIS as f64) as u32;
+        let extent = hi - lo;
+        let scale = |e: f32| if e.is_finite() && e > 0.0 { n as f32 / e } else { 0.0 };
+        Self {
+            lo,
+            scale: Vec2::new(scale(extent.x), scale(extent.y)),
+            cells_per_axis: n,
+        }
+    }
+
+    /// Cell coordinate of `v` on the axis with origin `lo` and `scale`;
+    /// monotonic in `v`, clamped to the grid.
+    #[inline]
+    fn coordinate(&self, v: f32, lo: f32, scale: f32) -> u32 {
+        // `as` saturates: below the grid (and NaN) → 0.
+        (((v - lo) * scale) as u32).min(self.cells_per_axis - 1)
+    }
+
+    #[inline]
+    fn cell(&self, y: f32, z: f32) -> u32 {
+        self.coordinate(y, self.lo.x, self.scale.x) * self.cells_per_axis + self.coordinate(z, self.lo.y, self.scale.y)
+    }
+
+    /// Number of cells.
+    pub fn cell_count(&self) -> usize {
+        (self.cells_per_axis * self.cells_per_axis) as usize
+    }
+
+    /// Calls `f` with every cell the box's y–z extent covers.
+    #[inline]
+    pub fn for_each_cell(&self, b: &Aabb, mut f: impl FnMut(u32)) {
+        let (y0, y1) = (
+            self.coordinate(b.min.y, self.lo.x, self.scale.x),
+            self.coordinate(b.max.y, self.lo.x, self.scale.x),
+        );
+        let (z0, z1) = (
+            self.coordinate(b.min.z, self.lo.y, self.scale.y),
+            self.coordinate(b.max.z, self.lo.y, self.scale.y),
+        );
+        let n = self.cells_per_axis;
+        if y0 == y1 && z0 == z1 {
+            // Almost every box: one cell.
+            f(y0 * n + z0);
+            return;
+        }
+        for y in y0..=y1 {
+            for z in z0..=z1 {
+                f(y * n + z);
+            }
+        }
+    }
+
+    /// The one cell that reports the overlapping pair `a`, `b`.
+    #[inline]
+    pub fn owner(&self, a: &Aabb, b: &Aabb) -> u32 {
+        self.cell(a.min.y.max(b.min.y), a.min.z.max(b.min.z))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_box_spanning_cells_is_filed_in_each_and_owned_once() {
+        // 64 · 16 boxes → 4 × 4 cells over [0, 4]².
+        let grid = Grid::fit(Vec2::ZERO, Vec2::splat(4.0), BOXES_PER_CELL * 16);
+        assert_eq!(grid.cell_count(), 16);
+        let wide = Aabb::new(Vec3::new(0.0, 2.0, 0.5), Vec3::new(1.0, 1.0, 0.25));
+        let mut cells = Vec::new();
+        grid.for_each_cell(&wide, |c| cells.push(c));
+        assert_eq!(cells, [4, 8, 12]);
+        let small = Aabb::new(Vec3::new(0.0, 2.5, 0.5), Vec3::splat(0.1));
+        assert_eq!(grid.owner(&wide, &small), 8);
+        assert_eq!(grid.owner(&small, &wide), 8);
+    }
+
+    #[test]
+    fn coordinates_outside_the_grid_clamp_to_its_edge() {
+        let grid = Grid::fit(Vec2::ZERO, Vec2::splat(4.0), BOXES_PER_CELL * 16);
+        let far = Aabb::new(Vec3::new(0.0, 1e9, -1e9), Vec3::ONE);
+        let mut cells = Vec::new();
+        grid.for_each_cell(&far, |c| cells.push(c));
+        assert_eq!(cells, [12]);
+    }
+}

@@ -1,0 +1,364 @@
+//! The collision response's kernel: what happens to one overlapping pair —
+//! a bounce with push-back to first contact, a separation of boxes that
+//! overlapped already, a shatter, or nothing (docs/design.md, "Response").
+
+use bevy::math::DVec3;
+use bevy::prelude::*;
+
+/// A body in a contact, as the kernel sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactBody {
+    /// Position after this update's drift.
+    pub position: Vec3,
+    /// Position at the start of this update.
+    pub previous: Vec3,
+    /// Velocity after this update's kick.
+    pub velocity: Vec3,
+    /// Mass, > 0.
+    pub mass: f32,
+    /// Half the box's edge lengths.
+    pub half_extents: Vec3,
+    /// False for an immovable collider (the planet).
+    pub interacts: bool,
+}
+
+/// A body's new position and velocity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Motion {
+    /// The new position.
+    pub position: Vec3,
+    /// The new velocity.
+    pub velocity: Vec3,
+}
+
+/// What happens to a pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    /// Both non-interacting, or touching without approaching: nothing.
+    Ignore,
+    /// Both interacting, they met this update (a collision axis is known),
+    /// and the impact speed reached the threshold.
+    Shatter,
+    /// Elastic bounce on the collision axes, then push-back to first contact.
+    /// `None` for a body that does not change (a non-interacting one).
+    Bounce(Option<Motion>, Option<Motion>),
+    /// Already overlapping a step ago: pushed apart along one axis.
+    Separate(Option<Motion>, Option<Motion>),
+}
+
+/// Axes on which the boxes were apart at their previous positions
+/// (touching counts as apart).
+pub fn apart_axes(a: &ContactBody, b: &ContactBody) -> [bool; 3] {
+    let gap = (a.previous - b.previous).abs() - (a.half_extents + b.half_extents);
+    [gap.x >= 0.0, gap.y >= 0.0, gap.z >= 0.0]
+}
+
+/// The collision axes: apart at the previous positions and closing, i.e.
+/// the relative velocity points from where `a` was towards where `b` was.
+/// (Faces that touched and slide along each other do not collide.)
+pub fn collision_axes(a: &ContactBody, b: &ContactBody) -> [bool; 3] {
+    let apart = apart_axes(a, b);
+    let offset = a.previous - b.previous;
+    let rel = a.velocity - b.velocity;
+    [0, 1, 2].map(|k| apart[k] && rel[k] * offset[k] < 0.0)
+}
+
+/// 1-D elastic collision: the new velocities of masses `m1`, `m2`.
+pub fn elastic(m1: f64, v1: f64, m2: f64, v2: f64) -> (f64, f64) {
+    let m = m1 + m2;
+    (
+        ((m1 - m2) * v1 + 2.0 * m2 * v2) / m,
+        ((m2 - m1) * v2 + 2.0 * m1 * v1) / m,
+    )
+}
+
+/// Kernel: the response to one overlapping pair. `threshold` is the impact
+/// speed `|v1 − v2|` from which interacting bodies shatter; `dt` the time step.
+pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Outcome {
+    if !a.interacts && !b.interacts {
+        return Outcome::Ignore;
+    }
+    let (pa, pb) = (a.position.as_dvec3(), b.position.as_dvec3());
+    let (va, vb) = (a.velocity.as_dvec3(), b.velocity.as_dvec3());
+    let reach = (a.half_extents + b.half_extents).as_dvec3();
+    // Overlapping already a step ago (e.g. spawned so): no impact happened.
+    if !apart_axes(a, b).contains(&true) {
+        return separate(a, b, reach - (pa - pb).abs());
+    }
+    let axes = collision_axes(a, b);
+    // Apart before, touching now, but not approaching: a graze.
+    if !axes.contains(&true) {
+        return Outcome::Ignore;
+    }
+    if a.interacts && b.interacts && (a.velocity - b.velocity).length() >= threshold {
+        return Outcome::Shatter;
+    }
+    // New velocities on the collision axes.
+    let (mut ua, mut ub) = (va, vb);
+    for k in (0..3).filter(|&k| axes[k]) {
+        (ua[k], ub[k]) = match (a.interacts, b.interacts) {
+            (true, true) => elastic(f64::from(a.mass), va[k], f64::from(b.mass), vb[k]),
+            // Reflection off the wall, relative to the wall's own motion.
+            (true, false) => (2.0 * vb[k] - va[k], vb[k]),
+            (false, _) => (va[k], 2.0 * va[k] - vb[k]),
+        };
+    }
+    // Time since first contact: the boxes touched once the last collision
+    // axis closed. Rewinding by `s` moves the offset `pa − pb` by
+    // `−(va − vb)·s`; on axis k it leaves the overlap, on the side the
+    // bodies came from, after `s_k = (reach + sign(rel)·offset) / |rel|`.
+    let offset = pa - pb;
+    let since_contact = (0..3)
+        .filter(|&k| axes[k])
+        .map(|k| {
+            let rel = va[k] - vb[k];
+            if rel == 0.0 {
+                0.0
+            } else {
+                (reach[k] + rel.signum() * offset[k]) / rel.abs()
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
+        // (Not `clamp`: a time step set to NaN at run time must not panic.)
+        .min(f64::from(dt))
+        .max(0.0);
+    // Rewind along the arrival velocities (relative to a wall, which stays).
+    let (back_a, back_b) = match (a.interacts, b.interacts) {
+        (true, true) => (va, vb),
+        (true, false) => (va - vb, DVec3::ZERO),
+        (false, _) => (DVec3::ZERO, vb - va),
+    };
+    let motion = |p: DVec3, back: DVec3, u: DVec3| Motion {
+        position: (p - back * since_contact).as_vec3(),
+        velocity: u.as_vec3(),
+    };
+    Outcome::Bounce(
+        a.interacts.then(|| motion(pa, back_a, ua)),
+        b.interacts.then(|| motion(pb, back_b, ub)),
+    )
+}
+
+/// Pushes the boxes apart along the axis of least overlap (ties: lowest
+/// axis), half each when both interact; velocities unchanged.
+fn separate(a: &ContactBody, b: &ContactBody, overlap: DVec3) -> Outcome {
+    let k = (0..3).fold(0, |best, k| if overlap[k] < overlap[best] { k } else { best });
+    let (pa, pb) = (a.position.as_dvec3(), b.position.as_dvec3());
+    let direction = if pa[k] >= pb[k] { 1.0 } else { -1.0 };
+    let (share_a, share_b) = match (a.interacts, b.interacts) {
+        (true, true) => (0.5, 0.5),
+        (true, false) => (1.0, 0.0),
+        (false, _) => (0.0, 1.0),
+    };
+    let shift = |p: DVec3, amount: f64| {
+        let mut p = p;
+        p[k] += amount;
+        p.as_vec3()
+    };
+    let motion = |body: &ContactBody, position| Motion {
+        position,
+        velocity: body.velocity,
+    };
+    Outcome::Separate(
+        a.interacts
+            .then(|| motion(a, shift(pa, direction * share_a * overlap[k]))),
+        b.interacts
+            .then(|| motion(b, shift(pb, -direction * share_b * overlap[k]))),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube(x: f32, vx: f32, mass: f32) -> ContactBody {
+        ContactBody {
+            position: Vec3::new(x, 0.0, 0.0),
+            previous: Vec3::new(x - vx, 0.0, 0.0),
+            velocity: Vec3::new(vx, 0.0, 0.0),
+            mass,
+            half_extents: Vec3::ONE,
+            interacts: true,
+        }
+    }
+
+    fn bounce(outcome: Outcome) -> (Option<Motion>, Option<Motion>) {
+        match outcome {
+            Outcome::Bounce(a, b) => (a, b),
+            other => panic!("expected a bounce, got {other:?}"),
+        }
+    }
+
+    fn gap_x(a: Vec3, b: Vec3) -> f32 {
+        (a.x - b.x).abs() - 2.0
+    }
+
+    #[test]
+    fn equal_masses_swap_velocities_head_on() {
+        // 0.6 apart on x when they last moved, now overlapping by 0.4.
+        let (a, b) = (cube(-0.8, 1.0, 2.0), cube(0.8, -1.0, 2.0));
+        let (ma, mb) = bounce(respond(&a, &b, 3.0, 1.0));
+        let (ma, mb) = (ma.unwrap(), mb.unwrap());
+        assert_eq!(
+            (ma.velocity, mb.velocity),
+            (Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0))
+        );
+        // Pushed back to where they first touched: x = ∓1.
+        assert!(gap_x(ma.position, mb.position).abs() < 1e-6);
+        assert!((ma.position.x + 1.0).abs() < 1e-6 && (mb.position.x - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn unequal_masses_follow_the_elastic_formula_and_keep_momentum_and_energy() {
+        let (m1, m2, v1, v2) = (3.0f32, 1.0f32, 1.5f32, -0.5f32);
+        let (a, b) = (cube(-0.9, v1, m1), cube(0.9, v2, m2));
+        let (ma, mb) = bounce(respond(&a, &b, 10.0, 1.0));
+        let (u1, u2) = (ma.unwrap().velocity.x, mb.unwrap().velocity.x);
+        let expected1 = ((m1 - m2) * v1 + 2.0 * m2 * v2) / (m1 + m2);
+        let expected2 = ((m2 - m1) * v2 + 2.0 * m1 * v1) / (m1 + m2);
+        assert!(
+            (u1 - expected1).abs() < 1e-6 && (u2 - expected2).abs() < 1e-6,
+            "{u1} {u2}"
+        );
+        assert!((m1 * v1 + m2 * v2 - (m1 * u1 + m2 * u2)).abs() < 1e-5, "momentum");
+        let energy = |x: f32, y: f32| 0.5 * m1 * x * x + 0.5 * m2 * y * y;
+        assert!((energy(v1, v2) - energy(u1, u2)).abs() < 1e-5, "kinetic energy");
+    }
+
+    #[test]
+    fn bounces_straight_back_off_a_wall() {
+        // The wall spans x ∈ [1, 21]; the body reaches 1.5, coming from −0.5.
+        let wall = ContactBody {
+            position: Vec3::new(11.0, 0.0, 0.0),
+            previous: Vec3::new(11.0, 0.0, 0.0),
+            velocity: Vec3::ZERO,
+            mass: 4000.0,
+            half_extents: Vec3::splat(10.0),
+            interacts: false,
+        };
+        let mut body = cube(0.5, 2.0, 1.0);
+        body.velocity.y = 0.25;
+        body.previous.y = -0.25;
+        let (m, w) = bounce(respond(&body, &wall, 1.0, 1.0));
+        assert_eq!(w, None, "the wall never moves");
+        let m = m.unwrap();
+        assert_eq!(m.velocity, Vec3::new(-2.0, 0.25, 0.0), "x reversed, y kept");
+        // Overlap 0.5 at closing speed 2: contact began 0.25 ago.
+        assert!(
+            m.position.x.abs() < 1e-6,
+            "pushed back to touch the wall: {}",
+            m.position
+        );
+    }
+
+    #[test]
+    fn faster_body_moves_back_further_and_still_one_stays() {
+        let still = ContactBody {
+            previous: Vec3::new(1.0, 0.0, 0.0),
+            ..cube(1.0, 0.0, 1.0)
+        };
+        let mover = cube(-0.5, 2.0, 1.0);
+        let (ma, mb) = bounce(respond(&mover, &still, 10.0, 1.0));
+        let (ma, mb) = (ma.unwrap(), mb.unwrap());
+        assert_eq!(mb.position, still.position, "a stationary body stays put");
+        assert!(gap_x(ma.position, mb.position).abs() < 1e-6, "touching after push-back");
+    }
+
+    #[test]
+    fn pushed_back_boxes_touch_without_overlap_on_random_contacts() {
+        let mut rng = crate::rng::Rng::new(11);
+        let mut r = |lo: f64, hi: f64| rng.range(lo, hi) as f32;
+        for _ in 0..1000 {
+            let (ha, hb) = (
+                Vec3::new(r(0.5, 2.0), r(0.5, 2.0), r(0.5, 2.0)),
+                Vec3::new(r(0.5, 2.0), r(0.5, 2.0), r(0.5, 2.0)),
+            );
+            let (va, vb) = (
+                Vec3::new(r(-3.0, 3.0), r(-3.0, 3.0), r(-3.0, 3.0)),
+                Vec3::new(r(-3.0, 3.0), r(-3.0, 3.0), r(-3.0, 3.0)),
+            );
+            let pa = Vec3::new(r(-1.0, 1.0), r(-1.0, 1.0), r(-1.0, 1.0)) * (ha + hb) * 0.5;
+            let a = ContactBody {
+                position: pa,
+                previous: pa - va,
+                velocity: va,
+                mass: r(0.5, 4.0),
+                half_extents: ha,
+                interacts: true,
+            };
+            let b = ContactBody {
+                position: Vec3::ZERO,
+                previous: -vb,
+                velocity: vb,
+                mass: r(0.5, 4.0),
+                half_extents: hb,
+                interacts: true,
+            };
+            if let Outcome::Bounce(Some(ma), Some(mb)) = respond(&a, &b, 100.0, 1.0) {
+                let gap = (ma.position - mb.position).abs() - (ha + hb);
+                let tolerance = 1e-5 * (1.0 + ma.position.abs().max_element());
+                assert!(gap.max_element() >= -tolerance, "still overlapping: gap {gap}");
+                assert!(gap.max_element() <= tolerance, "not touching: gap {gap}");
+            }
+        }
+    }
+
+    #[test]
+    fn already_overlapping_boxes_separate_along_the_least_overlap() {
+        let a = ContactBody {
+            previous: Vec3::new(0.0, 1.5, 0.0),
+            ..cube(0.0, 0.0, 1.0)
+        };
+        let b = ContactBody {
+            position: Vec3::new(0.5, 1.5, 0.25),
+            previous: Vec3::new(0.5, 1.5, 0.25),
+            ..cube(0.0, 0.0, 1.0)
+        };
+        match respond(&a, &b, 3.0, 1.0) {
+            Outcome::Separate(Some(ma), Some(mb)) => {
+                // Overlaps: x 1.5, y 0.5, z 1.75 → y, 0.25 each.
+                assert_eq!(ma.position, Vec3::new(0.0, -0.25, 0.0));
+                assert_eq!(mb.position, Vec3::new(0.5, 1.75, 0.25));
+            }
+            other => panic!("expected a separation, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn grazing_faces_neither_bounce_nor_shatter() {
+        // Faces touching on x a step ago and now; overlapping on y and z and
+        // sliding past each other on z at 1.5 — above the threshold of 1.
+        let a = ContactBody {
+            position: Vec3::new(0.0, 0.0, 0.25),
+            previous: Vec3::new(0.0, 0.0, -0.5),
+            velocity: Vec3::new(0.0, 0.0, 0.75),
+            ..cube(0.0, 0.0, 1.0)
+        };
+        let b = ContactBody {
+            position: Vec3::new(2.0, 0.0, -0.25),
+            previous: Vec3::new(2.0, 0.0, 0.5),
+            velocity: Vec3::new(0.0, 0.0, -0.75),
+            ..cube(2.0, 0.0, 1.0)
+        };
+        assert_eq!(apart_axes(&a, &b), [true, false, false]);
+        assert_eq!(collision_axes(&a, &b), [false; 3]);
+        assert_eq!(respond(&a, &b, 1.0, 1.0), Outcome::Ignore);
+    }
+
+    #[test]
+    fn a_nan_time_step_does_not_panic() {
+        let (a, b) = (cube(-0.9, 1.0, 1.0), cube(0.9, -1.0, 1.0));
+        assert!(matches!(respond(&a, &b, 10.0, f32::NAN), Outcome::Bounce(..)));
+    }
+
+    #[test]
+    fn shatters_from_the_threshold_on_and_not_below() {
+        let (a, b) = (cube(-0.9, 1.5, 1.0), cube(0.9, -1.5, 1.0));
+        assert_eq!(respond(&a, &b, 3.0, 1.0), Outcome::Shatter);
+        assert!(matches!(respond(&a, &b, 3.0001, 1.0), Outcome::Bounce(..)));
+        let wall = ContactBody { interacts: false, ..b };
+        assert!(
+            matches!(respond(&a, &wall, 0.1, 1.0), Outcome::Bounce(..)),
+            "walls never shatter"
+        );
+    }
+}

@@ -1,0 +1,19 @@
+//! The window's system sets: what each frame does, in which order. The
+//! order itself is chained in one place, [`app`](super::app).
+
+use bevy::prelude::*;
+
+/// The window's work in a frame.
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SandboxSystems {
+    /// `Update`: rebuild the scene when a restart was asked for.
+    BuildScene,
+    /// `Update`: apply the live settings, run the updates the clock owes.
+    Simulate,
+    /// `Update`: cameras and picking, on the bodies where they are now.
+    View,
+    /// `EguiPrimaryContextPass`: the settings panel (left).
+    Panel,
+    /// `EguiPrimaryContextPass`: the HUD (a window over the view).
+    Hud,
+}

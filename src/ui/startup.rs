@@ -1,0 +1,84 @@
+//! What the window starts with: the checks made before it opens, the saved
+//! settings, the command line's overrides, and the first scenario.
+
+use super::settings::{MAX_BODY_COUNT, SandboxSettings};
+use super::settings_file::{SettingsFile, default_settings_path};
+use super::window_options::{WindowError, WindowOptions};
+use crate::output::{check_extension, check_new};
+use crate::scenario::Scenario;
+
+/// What the window starts with.
+pub struct Start {
+    /// The settings file, as read.
+    pub file: SettingsFile,
+    /// The settings in force: the saved ones, overridden by the command line.
+    pub settings: SandboxSettings,
+    /// The scenario to build first.
+    pub scenario: Scenario,
+}
+
+impl Start {
+    /// Checks what can be checked before a window opens (the screenshot
+    /// path, the display, the body count), then reads the settings and the
+    /// scenario: the saved ones, overridden by the command line, whose
+    /// choices are not changes that would rewrite the settings file.
+    pub fn from_options(options: &WindowOptions) -> Result<Self, WindowError> {
+        check_screenshot(options)?;
+        check_display()?;
+        if let Some(n) = options.bodies.filter(|&n| n > MAX_BODY_COUNT) {
+            return Err(WindowError::TooManyBodies(n));
+        }
+        let path = options.settings.clone().unwrap_or_else(default_settings_path);
+        let (mut file, mut settings) = SettingsFile::open(path);
+        if let Some(warning) = &file.warning {
+            eprintln!("kessler: warning: {warning}");
+        }
+        let scenario = match &options.scenario {
+            Some(path) => {
+                let scenario = Scenario::load(path)?;
+                settings.scenario = Some(path.clone());
+                settings.adopt_scenario(&scenario.settings());
+                scenario
+            }
+            None => Scenario::load_or_default(settings.scenario.as_deref()).unwrap_or_else(|e| {
+                // The saved scenario went missing or broke: say so, use the built-in.
+                let warning = format!("saved scenario: {e}; using the built-in scene");
+                eprintln!("kessler: warning: {warning}");
+                file.warning = Some(warning);
+                settings.scenario = None;
+                Scenario::builtin_default()
+            }),
+        };
+        if let Some(render) = options.render {
+            settings.render_method = render;
+        }
+        if let Some(count) = options.bodies {
+            scenario.with_generated(count)?;
+            settings.body_count = Some(count);
+        }
+        file.initial = settings.clone();
+        Ok(Self {
+            file,
+            settings,
+            scenario,
+        })
+    }
+}
+
+/// A screenshot must be a new `.png` file in an existing folder.
+fn check_screenshot(options: &WindowOptions) -> Result<(), WindowError> {
+    if let Some(path) = &options.screenshot {
+        check_extension("--screenshot", path, "png")?;
+        check_new("--screenshot", path, "screenshots never overwrite, choose another name")?;
+    }
+    Ok(())
+}
+
+/// The window is X11-only (the lean build leaves Wayland out): without a
+/// display, say so instead of letting the event loop panic.
+fn check_display() -> Result<(), WindowError> {
+    if cfg!(target_os = "linux") && std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
+        return Err(WindowError::NoDisplay);
+    }
+    Ok(())
+}

@@ -1,0 +1,57 @@
+//! What `kessler run` asks of the window, and why it may refuse.
+
+use std::path::PathBuf;
+
+use super::settings::{MAX_BODY_COUNT, RenderMethod};
+use crate::execution::ExecutionError;
+use crate::input::InputError;
+use crate::output::OutputError;
+use crate::scenario::NoGenerators;
+
+/// How the window runs; everything is optional.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WindowOptions {
+    /// Scenario file; the saved or built-in scenario if `None`.
+    pub scenario: Option<PathBuf>,
+    /// Close after this many frames and print frame-time statistics.
+    pub frames: Option<u64>,
+    /// Save a PNG of the window after the last frame (a new file).
+    pub screenshot: Option<PathBuf>,
+    /// Settings file to load and save instead of the default one.
+    pub settings: Option<PathBuf>,
+    /// Drawing method for this run (not saved).
+    pub render: Option<RenderMethod>,
+    /// Generated bodies for this run (not saved).
+    pub bodies: Option<u64>,
+    /// Start with the simulation paused (to measure rendering alone).
+    pub paused: bool,
+}
+
+/// Why the window could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum WindowError {
+    /// The screenshot path cannot be written.
+    #[error(transparent)]
+    Screenshot(#[from] OutputError),
+    /// There is no display to open a window on.
+    #[error(
+        "no X11 display (DISPLAY is not set): run the window in a desktop session, \
+         under `xvfb-run kessler run`, or use `kessler headless`"
+    )]
+    NoDisplay,
+    /// `--bodies` asks for more than the sandbox offers.
+    #[error("--bodies: {0} is more than the sandbox's {MAX_BODY_COUNT}")]
+    TooManyBodies(u64),
+    /// The scenario named on the command line is unusable.
+    #[error(transparent)]
+    Scenario(#[from] InputError),
+    /// `--bodies` on a scenario without generators.
+    #[error("--bodies: {0}")]
+    NoGenerators(#[from] NoGenerators),
+    /// The worker pool could not be made.
+    #[error(transparent)]
+    Execution(#[from] ExecutionError),
+    /// The app itself stopped with an error (its log says more).
+    #[error("the window app stopped with an error (see the log above)")]
+    App(u8),
+}
