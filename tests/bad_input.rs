@@ -38,12 +38,16 @@ fn every_malformed_scenario_is_a_clear_error() {
 #[test]
 fn bad_arguments_are_clear_errors() {
     let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 8] = [
         (&["headless", scenario, "--steps", "-5"], "--steps"),
         (&["headless", scenario, "--steps", "ten"], "--steps"),
         (&["headless", scenario], "--steps"),
         (&["headless", scenario, "--steps", "1", "--mode", "fast"], "--mode"),
         (&["headless", scenario, "--steps", "1", "--threads", "0"], "--threads"),
+        (
+            &["headless", scenario, "--steps", "1", "--threads", "-1"],
+            "not in 1..=256",
+        ),
         (
             &["headless", scenario, "--steps", "1", "--dump", "/no/such/folder/x.csv"],
             "/no/such/folder",

@@ -15,6 +15,7 @@ use plotters::prelude::*;
 
 use super::run::RunResult;
 use crate::execution::ExecutionMode;
+use crate::output::write_png;
 use crate::systems::STAGES;
 
 /// Width and height of the plot in pixels.
@@ -59,13 +60,7 @@ pub fn png(results: &[RunResult], title: &str) -> Result<Vec<u8>, PlotError> {
         title,
     )?;
     let mut png = Vec::new();
-    let mut encoder = ::png::Encoder::new(&mut png, width, height);
-    encoder.set_color(::png::ColorType::Rgb);
-    encoder.set_depth(::png::BitDepth::Eight);
-    encoder
-        .write_header()
-        .and_then(|mut writer| writer.write_image_data(&rgb))
-        .map_err(|e| PlotError(e.to_string()))?;
+    write_png(&mut png, width, height, &rgb).map_err(|e| PlotError(e.to_string()))?;
     Ok(png)
 }
 

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use clap::builder::RangedU64ValueParser;
+use clap::builder::RangedI64ValueParser;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::execution::{ExecutionMode, MAX_THREADS};
@@ -59,7 +59,7 @@ pub struct ExecutionArgs {
     /// Worker threads in parallel mode [default: all hardware threads].
     #[arg(
         long,
-        value_parser = RangedU64ValueParser::<usize>::new().range(1..=MAX_THREADS as u64),
+        value_parser = RangedI64ValueParser::<usize>::new().range(1..=MAX_THREADS as i64),
         allow_negative_numbers = true
     )]
     pub threads: Option<usize>,

@@ -52,7 +52,7 @@ pub fn simulate(
 
     if let Some(path) = dump_path {
         let bodies = sim.snapshot();
-        write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure::from(e).context("--dump"))?;
+        write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure::other(format!("--dump {e}")))?;
     }
     let per_update_ms = if updates == 0 {
         0.0

@@ -32,11 +32,11 @@
 //!
 //! # How a parallel step runs
 //!
-//! [`claims`] cuts the input into about four chunks per thread, which the
+//! `claims.rs` cuts the input into about four chunks per thread, which the
 //! threads claim in turn from a shared counter; the thread that started the
 //! step waits for the others' last chunks spinning, not asleep, because on
 //! the virtual machines this runs on, waking a sleeping thread costs tens of
-//! microseconds. After a step, [`keep_warm`] keeps the idle workers polling
+//! microseconds. After a step, `keep_warm.rs` keeps the idle workers polling
 //! for a millisecond, so the next step of the same update finds them awake.
 //! Why a pool of our own rather than Bevy's `ComputeTaskPool` or `par_iter`:
 //! see ARCHITECTURE.md, "Parallel execution".

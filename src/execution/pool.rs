@@ -87,8 +87,9 @@ impl Execution {
 
     /// Whether idle workers keep polling for a moment after each parallel
     /// step ([`WARM_FOR`](super::WARM_FOR)). On by default: it saves the
-    /// wake-ups between the steps of an update. Off where other work needs
-    /// the cores between updates (the window's renderer).
+    /// wake-ups between the steps of an update. Off would suit a host whose
+    /// other work needs the cores between updates; the window measured no
+    /// cost and keeps it on (`ui/app.rs`).
     pub fn with_keep_warm(mut self, on: bool) -> Self {
         self.warm = on.then(Arc::default);
         self

@@ -1,8 +1,9 @@
 //! Value checks done while a file is parsed, so that the parser's error
 //! carries the line and column of the offending value. Input files name
 //! these in `#[serde(deserialize_with = ...)]` through small wrappers, one
-//! per field; every message has the form ``field `NAME`: must be RULE, got
-//! VALUE``.
+//! per field; every message starts with ``field `NAME`: `` and says the rule
+//! and the value (``must be RULE, got VALUE``, or for a body count, how many
+//! fit).
 
 use std::fmt::Display;
 

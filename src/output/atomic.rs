@@ -4,7 +4,8 @@
 //!
 //! Written here rather than with `tempfile::NamedTempFile::persist`: that
 //! creates its files with mode 0600, so every dump and result would end up
-//! readable by its owner only; `File::create` honors the user's umask.
+//! readable by its owner only; `OpenOptions` as used here (like
+//! `File::create`) honors the user's umask.
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -38,15 +39,22 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::R
     let name = path
         .file_name()
         .ok_or_else(|| failed(io::Error::new(io::ErrorKind::InvalidInput, "not a file name")))?;
-    let tmp = dir.join(format!(
-        ".{}.{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id(),
-        TEMPORARIES.fetch_add(1, Ordering::Relaxed)
-    ));
+    // `create_new`: never write through something already there; a name
+    // left behind by a crashed process with the same id is skipped.
+    let (tmp, file) = loop {
+        let tmp = dir.join(format!(
+            ".{}.{}.{}.tmp",
+            name.to_string_lossy(),
+            std::process::id(),
+            TEMPORARIES.fetch_add(1, Ordering::Relaxed)
+        ));
+        match std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
+            Ok(file) => break (tmp, file),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(failed(e)),
+        }
+    };
     let result = (|| {
-        // `create_new`: never write through something already there.
-        let file = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
         let mut out = BufWriter::new(file);
         write(&mut out)?;
         out.into_inner().map_err(io::IntoInnerError::into_error)?.sync_all()?;
@@ -77,5 +85,23 @@ mod tests {
             1,
             "temporary file left behind"
         );
+    }
+
+    #[test]
+    fn a_temporary_name_left_behind_is_skipped_not_written_through() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.csv");
+        let next = TEMPORARIES.load(Ordering::Relaxed);
+        // Stale names for this process's next few temporaries (other tests
+        // may take some of the numbers meanwhile).
+        let stale: Vec<PathBuf> = (next..next + 8)
+            .map(|k| dir.path().join(format!(".out.csv.{}.{k}.tmp", std::process::id())))
+            .collect();
+        for file in &stale {
+            std::fs::write(file, "stale").unwrap();
+        }
+        write_atomically(&path, |w| w.write_all(b"new")).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
+        assert!(stale.iter().all(|f| std::fs::read_to_string(f).unwrap() == "stale"));
     }
 }

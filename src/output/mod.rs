@@ -4,6 +4,8 @@
 
 mod atomic;
 mod check;
+mod png_image;
 
 pub use atomic::*;
 pub use check::*;
+pub use png_image::*;

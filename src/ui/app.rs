@@ -1,5 +1,5 @@
-//! `kessler run`: the window app — its plugins, with the order of each
-//! frame's work chained here and nowhere else.
+//! `kessler run`: the window app — its plugins, and the order of a frame's
+//! phases (`SandboxSystems`), chained here and nowhere else.
 
 use bevy::prelude::*;
 use bevy::window::WindowResolution;

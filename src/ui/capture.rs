@@ -13,6 +13,7 @@ use super::frame_stats::{FrameStats, summarize};
 use super::instance_slot::InstancedBodies;
 use super::settings::{RenderMethod, SandboxSettings};
 use crate::components::BodyId;
+use crate::output::{write_atomically, write_png};
 
 /// Frames skipped before frame times count (pipelines compile, buffers fill).
 pub const WARMUP_FRAMES: usize = 10;
@@ -97,7 +98,11 @@ fn scripted_run(
                         .clone()
                         .try_into_dynamic()
                         .map_err(|e| e.to_string())
-                        .and_then(|img| img.to_rgb8().save(&path).map_err(|e| e.to_string()));
+                        .and_then(|image| {
+                            let rgb = image.to_rgb8();
+                            write_atomically(&path, |w| write_png(w, rgb.width(), rgb.height(), rgb.as_raw()))
+                                .map_err(|e| e.source.to_string())
+                        });
                     match saved {
                         Ok(()) => {
                             eprintln!("kessler: screenshot saved to {}", path.display());

@@ -3,6 +3,7 @@
 //! request.
 
 use bevy::prelude::*;
+use bevy::transform::TransformSystems;
 
 use super::body_colors::is_celestial;
 use super::settings::SandboxSettings;
@@ -35,8 +36,12 @@ pub struct CelestialsPlugin;
 
 impl Plugin for CelestialsPlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(Startup, init_celestial_assets)
-            .add_systems(PostUpdate, (spawn_celestial_visuals, follow_celestials).chain());
+        app.add_systems(Startup, init_celestial_assets).add_systems(
+            PostUpdate,
+            (spawn_celestial_visuals, follow_celestials)
+                .chain()
+                .before(TransformSystems::Propagate),
+        );
     }
 }
 

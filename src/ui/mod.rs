@@ -1,5 +1,5 @@
 //! The interactive window (feature `gui`): one plugin per concern, added by
-//! [`app`]. The simulation itself is the same headless core
+//! `app.rs`. The simulation itself is the same headless core
 //! (`crate::systems`), driven at a chosen update rate.
 
 mod app;

@@ -1,5 +1,6 @@
-//! The window's system sets: what each frame does, in which order. The
-//! order itself is chained in one place, [`app`](super::app).
+//! The window's system sets: the phases of a frame. Their order is chained
+//! in one place, `ui/app.rs`; each plugin orders its own systems within a
+//! phase.
 
 use bevy::prelude::*;
 

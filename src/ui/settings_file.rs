@@ -137,7 +137,11 @@ fn save_settings_on_exit(
     match file.save_if_changed(&settings) {
         Ok(true) => info!("settings saved to {}", file.path.display()),
         Ok(false) => {}
-        Err(e) => eprintln!("kessler: warning: cannot save settings: {e}"),
+        Err(e) => eprintln!(
+            "kessler: warning: {}: cannot save settings: {}",
+            e.path.display(),
+            e.source
+        ),
     }
 }
 
