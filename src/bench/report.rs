@@ -19,11 +19,10 @@ pub const OVERHEAD_HEADER: &str = "bodies,stage,sequential_ns,parallel_1_thread_
 /// column a stage counts in.
 pub fn stage_columns() -> Vec<&'static str> {
     let mut columns = CONTRACT_STAGE_COLUMNS.to_vec();
-    for column in STAGES.iter().flat_map(|s| s.columns) {
-        if !columns.contains(column) {
-            columns.push(column);
-        }
-    }
+    let others = columns_in_stage_order()
+        .into_iter()
+        .filter(|c| !CONTRACT_STAGE_COLUMNS.contains(c));
+    columns.extend(others);
     columns
 }
 
