@@ -1,21 +1,24 @@
 //! Each stage's kernel on its own, without an App, sequential vs parallel
-//! (all hardware threads): `cargo bench --bench kernels`.
+//! (all hardware threads, split at every count), and the bare cost of one
+//! parallel step: `cargo bench --bench kernels`.
 
 use bevy::math::DVec3;
 use bevy::prelude::*;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use kessler::components::{BodyId, BodyState, GravityRole, Position, Velocity};
-use kessler::execution::{Execution, ExecutionMode, available_threads};
+use kessler::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
 use kessler::rng::Rng;
 use kessler::systems::{
-    Aabb, ContactBody, GravitySource, SweepScratch, fragments, gravity_kernel, respond, sweep_and_prune,
+    Aabb, ContactBody, GravitySource, SortedBoxes, fragments, gravity_kernel, respond, sweep_and_prune,
 };
 
 const COUNTS: [usize; 3] = [1_000, 10_000, 100_000];
 const MODES: [ExecutionMode; 2] = [ExecutionMode::Sequential, ExecutionMode::Parallel];
 
 fn execution(mode: ExecutionMode) -> Execution {
-    Execution::new(mode, available_threads()).unwrap()
+    Execution::new(mode, available_threads())
+        .unwrap()
+        .with_split(SplitPolicy::Always)
 }
 
 /// Centers uniform in [1, 5000]³, as in the thesis scene.
@@ -54,7 +57,8 @@ fn gravity(c: &mut Criterion) {
                         roles.as_slice(),
                         velocities.as_mut_slice(),
                     );
-                    exec.for_chunks(columns, 32_768, |cols| gravity_kernel(cols, &sources, 0.0, 1.0));
+                    exec.for_stage("gravity", count)
+                        .for_chunks(columns, |cols| gravity_kernel(cols, &sources, 0.0, 1.0));
                 })
             });
         }
@@ -69,7 +73,7 @@ fn sweep(c: &mut Criterion) {
         boxes.push(Aabb::new(Vec3::splat(2500.0), Vec3::splat(430.0)));
         for mode in MODES {
             let exec = execution(mode);
-            let mut scratch = SweepScratch::default();
+            let mut scratch = SortedBoxes::default();
             group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
                 b.iter(|| sweep_and_prune(boxes.as_slice(), &exec, &mut scratch))
             });
@@ -134,5 +138,26 @@ fn shatter(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, gravity, sweep, response, shatter);
+/// One parallel step of a near-empty kernel on 1 and 2 threads, against
+/// the same kernel called whole: what handing work to the pool costs.
+fn dispatch(c: &mut Criterion) {
+    let mut group = c.benchmark_group("dispatch");
+    let kernel = |r: std::ops::Range<usize>| r.len();
+    for threads in [1, 2] {
+        let exec = Execution::new(ExecutionMode::Parallel, threads)
+            .unwrap()
+            .with_split(SplitPolicy::Always);
+        let items = threads * 4;
+        group.bench_function(BenchmarkId::new("split", threads), |b| {
+            b.iter(|| exec.for_stage("dispatch", 0).map_chunks(0..items, kernel))
+        });
+    }
+    group.bench_function("whole", |b| {
+        let exec = execution(ExecutionMode::Sequential);
+        b.iter(|| exec.for_stage("dispatch", 0).map_chunks(0..8, kernel))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, gravity, sweep, response, shatter, dispatch);
 criterion_main!(benches);

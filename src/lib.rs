@@ -4,8 +4,10 @@
 //! docs/design.md describes the physics, the algorithms and the contracts.
 
 pub mod bench;
+pub mod calibration;
 pub mod cli;
 pub mod components;
+pub mod draw_method;
 pub mod dump;
 pub mod execution;
 pub mod input;
@@ -17,5 +19,9 @@ pub mod simulation;
 pub mod systems;
 #[cfg(feature = "gui")]
 pub mod ui;
+pub mod user_files;
 
 pub use simulation::Simulation;
+
+/// Whether this build has the window (the `gui` feature).
+pub const WINDOW_BUILD: bool = cfg!(feature = "gui");

@@ -39,8 +39,9 @@ fn tiny_config(dir: &Path) -> PathBuf {
         format!(
             r#"Bench(scenario: "{scenario}", runs: [
                 Run(bodies: 50, updates: 5, mode: Sequential),
-                Run(bodies: 50, updates: 5, mode: Parallel, threads: 1),
-                Run(bodies: 500, updates: 3, mode: Parallel, threads: 2, stages: (collisions: false)),
+                Run(bodies: 50, updates: 5, mode: Parallel, threads: 1, split: Always),
+                Run(bodies: 500, updates: 3, mode: Parallel, threads: 2, stages: (collisions: false),
+                    seed: 7, shatter_fragments: 3, shatter_threshold: 2.5),
             ])"#
         ),
     )
@@ -60,7 +61,7 @@ fn run_tiny(dir: &Path, out: &Path) -> Output {
 }
 
 #[test]
-fn writes_results_overhead_and_plot() {
+fn writes_results_passes_overhead_machine_and_plot() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("tiny-results.csv");
     let result = run_tiny(dir.path(), &out);
@@ -70,9 +71,14 @@ fn writes_results_overhead_and_plot() {
     let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
     assert_eq!(
         csv.lines().next().unwrap(),
-        "run,bodies_start,bodies_end,updates,mode,threads,update_ns,broad_phase_ns,response_ns,gravity_ns,integrate_ns"
+        "run,bodies_start,bodies_end,updates,mode,threads,update_ns,broad_phase_ns,response_ns,gravity_ns,integrate_ns,sort_ns,sweep_ns"
     );
     assert_eq!(rows.len(), 4, "{csv}");
+    for row in &rows[1..] {
+        // The broad phase is its sort and its sweep.
+        let [broad, sort, sweep] = [7, 11, 12].map(|k| row[k].parse::<i64>().unwrap());
+        assert!((broad - sort - sweep).abs() <= 1, "{row:?}");
+    }
     // 50 cubes and the planet; the third run had collisions off.
     assert_eq!(&rows[1][..6], ["1", "51", "51", "5", "sequential", "1"]);
     assert_eq!(&rows[2][4..6], ["parallel", "1"]);
@@ -80,7 +86,7 @@ fn writes_results_overhead_and_plot() {
     assert_eq!(rows[3][7], "0", "broad phase was off");
     for row in &rows[1..] {
         let update: f64 = row[6].parse().unwrap();
-        let stages: f64 = row[7..].iter().map(|v| v.parse::<f64>().unwrap()).sum();
+        let stages: f64 = row[7..11].iter().map(|v| v.parse::<f64>().unwrap()).sum();
         assert!(
             update > 0.0 && stages <= update,
             "stages {stages} exceed the update {update}: {row:?}"
@@ -88,13 +94,49 @@ fn writes_results_overhead_and_plot() {
     }
 
     let overhead = std::fs::read_to_string(dir.path().join("tiny-results-overhead.csv")).unwrap();
-    assert!(overhead.starts_with("bodies,stage,sequential_ns,parallel_1_thread_ns,overhead_ns,overhead_percent\n"));
-    // The header, the whole update and each stage column of the results.
-    let columns = kessler::bench::columns_in_stage_order();
-    assert_eq!(overhead.lines().count(), 2 + columns.len(), "{overhead}");
-    for column in columns {
-        assert!(overhead.contains(&format!(",{column},")), "{overhead}");
+    assert!(
+        overhead
+            .starts_with("bodies,stage,threads,with_overhead_us,without_overhead_us,overhead_us,overhead_percent\n")
+    );
+    // The header, the whole update and each stage at 50 bodies (whole
+    // against split on one thread), then the bare step on 1 and 2 threads.
+    let stages = kessler::systems::STAGES;
+    assert_eq!(overhead.lines().count(), 1 + 1 + stages.len() + 2, "{overhead}");
+    assert!(overhead.contains("\n50,update,1,"), "{overhead}");
+    for stage in stages {
+        assert!(overhead.contains(&format!("\n50,{},1,", stage.name)), "{overhead}");
     }
+    for threads in [1, 2] {
+        let row = overhead
+            .lines()
+            .find(|l| l.starts_with(&format!("0,empty_step,{threads},")))
+            .unwrap_or_else(|| panic!("no empty step on {threads} threads: {overhead}"));
+        let us: Vec<f64> = row.split(',').skip(3).map(|v| v.parse().unwrap()).collect();
+        assert!(us[0] > 0.0 && us[1] >= 0.0, "{row}");
+    }
+    let passes = std::fs::read_to_string(dir.path().join("tiny-results-passes.csv")).unwrap();
+    assert!(passes.starts_with("pass,run,bodies_start,"), "{passes}");
+    assert_eq!(passes.lines().count(), 4, "{passes}");
+    let machine = std::fs::read_to_string(dir.path().join("tiny-results-machine.txt")).unwrap();
+    for key in [
+        "cpu: ",
+        "hardware threads: ",
+        "os: ",
+        "rustc: ",
+        "kessler: ",
+        "date: ",
+        "command: ",
+        "split auto: ",
+    ] {
+        assert!(machine.contains(key), "{key} missing: {machine}");
+    }
+    // Split on one thread never has a second thread to gain from, but the
+    // crossover of the one count is reported all the same.
+    let crossover = std::fs::read_to_string(dir.path().join("tiny-results-crossover.csv")).unwrap();
+    assert!(
+        crossover.lines().skip(1).all(|l| l.split(',').nth(1) == Some("1")),
+        "{crossover}"
+    );
     let svg = std::fs::read_to_string(dir.path().join("tiny-results.svg")).unwrap();
     assert!(svg.contains("<polyline"), "{svg}");
     let png = std::fs::read(dir.path().join("tiny-results.png")).unwrap();
@@ -162,4 +204,115 @@ fn repeated_passes_measure_every_run_each_time_and_write_one_row_per_run() {
     let csv = std::fs::read_to_string(&out).unwrap();
     let runs: Vec<&str> = csv.lines().skip(1).map(|l| l.split(',').next().unwrap()).collect();
     assert_eq!(runs, ["1", "2"], "{csv}");
+    // Every pass of every run, as measured.
+    let passes = std::fs::read_to_string(dir.path().join("repeat-passes.csv")).unwrap();
+    let order: Vec<(&str, &str)> = passes
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let mut fields = l.split(',');
+            (fields.next().unwrap(), fields.next().unwrap())
+        })
+        .collect();
+    assert_eq!(
+        order,
+        [("1", "1"), ("1", "2"), ("2", "1"), ("2", "2"), ("3", "1"), ("3", "2")]
+    );
+}
+
+#[test]
+fn the_crossover_names_where_always_beats_sequential_and_marks_the_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("cross.ron");
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis_cloud.ron");
+    let mut runs = String::new();
+    for bodies in [10, 20_000] {
+        for run in [
+            "mode: Sequential",
+            "mode: Parallel, threads: 2, split: Always",
+            "mode: Parallel, threads: 2",
+        ] {
+            runs.push_str(&format!("Run(bodies: {bodies}, updates: 3, {run}),\n"));
+        }
+    }
+    std::fs::write(
+        &config,
+        format!(r#"Bench(scenario: "{scenario}", repeat: 2, runs: [{runs}])"#),
+    )
+    .unwrap();
+    let out = dir.path().join("cross.csv");
+    let result = kessler()
+        .arg("bench")
+        .arg(&config)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    let crossover = std::fs::read_to_string(dir.path().join("cross-crossover.csv")).unwrap();
+    let lines: Vec<&str> = crossover.lines().collect();
+    assert_eq!(
+        lines[0],
+        "stage,threads,crossover_bodies,counts,auto_worst_percent,auto_worst_bodies"
+    );
+    assert_eq!(lines.len(), 2 + kessler::systems::STAGES.len(), "{crossover}");
+    let update: Vec<&str> = lines[1].split(',').collect();
+    assert_eq!((update[0], update[1], update[3]), ("update", "2", "2"), "{crossover}");
+    // Whatever this machine's crossover, it is one of the measured counts
+    // or none, and Auto was compared at both counts.
+    assert!(["", "10", "20000"].contains(&update[2]), "{crossover}");
+    assert!(
+        update[4].parse::<f64>().is_ok() && ["10", "20000"].contains(&update[5]),
+        "{crossover}"
+    );
+    if !update[2].is_empty() {
+        let svg = std::fs::read_to_string(dir.path().join("cross.svg")).unwrap();
+        assert!(svg.contains(&format!("crossover: {}", update[2])), "the plot marks it");
+    }
+}
+
+#[test]
+fn a_bad_split_flag_is_one_line_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results.csv");
+    for bad in ["sometimes", "-5", "1.5"] {
+        let result = kessler()
+            .arg("bench")
+            .arg(tiny_config(dir.path()))
+            .arg("--out")
+            .arg(&out)
+            .args(["--split", bad])
+            .output()
+            .unwrap();
+        assert_eq!(result.status.code(), Some(2), "--split {bad}");
+        assert_one_clear_line(&result.stderr, &["--split", bad]);
+        assert!(!out.exists());
+    }
+}
+
+#[cfg(not(feature = "gui"))]
+#[test]
+fn render_runs_need_the_window_build() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("render.ron");
+    std::fs::write(
+        &config,
+        "Bench(runs: [Run(bodies: 10, updates: 2), Render(bodies: 10, frames: 5, method: Instanced)])",
+    )
+    .unwrap();
+    let out = dir.path().join("results.csv");
+    let result = kessler()
+        .arg("bench")
+        .arg(&config)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(2));
+    assert_one_clear_line(&result.stderr, &["render.ron", "runs[1]", "window"]);
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "only the config is there"
+    );
 }

@@ -2,8 +2,14 @@
 
 use assert_cmd::Command;
 
+/// The binary, blind to the user's own settings and split calibration.
 fn kessler() -> Command {
-    Command::cargo_bin("kessler").unwrap()
+    let mut command = Command::cargo_bin("kessler").unwrap();
+    command.env(
+        "XDG_CONFIG_HOME",
+        std::env::temp_dir().join("kessler-tests-without-config"),
+    );
+    command
 }
 
 fn scenario(name: &str) -> String {
@@ -98,5 +104,67 @@ fn pairs_prints_the_thesis_case_as_csv() {
     assert_eq!(
         String::from_utf8(out.stdout).unwrap(),
         "a,b\n0,1\n0,2\n0,3\n0,5\n1,4\n2,3\n3,4\n"
+    );
+}
+
+#[test]
+fn calibrate_stores_what_split_auto_then_uses() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("config");
+    let headless = |config: &std::path::Path| {
+        let out = kessler()
+            .args([
+                "headless",
+                &scenario("two_body.ron"),
+                "--steps",
+                "3",
+                "--mode",
+                "parallel",
+            ])
+            .env("XDG_CONFIG_HOME", config)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        (
+            String::from_utf8(out.stdout).unwrap(),
+            String::from_utf8(out.stderr).unwrap(),
+        )
+    };
+    let (before, _) = headless(&config);
+    assert!(before.contains("split auto (no calibration"), "{before}");
+
+    let out = kessler()
+        .args(["calibrate", "--threads", "2"])
+        .env("XDG_CONFIG_HOME", &config)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let printed = String::from_utf8(out.stdout).unwrap();
+    let path = config.join("kessler").join("calibration.ron");
+    assert!(printed.contains(&path.display().to_string()), "{printed}");
+    let calibration = kessler::calibration::load_calibration(&path).unwrap().unwrap();
+    assert_eq!(calibration.threads, 2);
+    for stage in kessler::systems::STAGES {
+        let from = calibration.split_from[stage.name];
+        assert!(
+            kessler::calibration::LADDER.contains(&from) || from == kessler::calibration::NOT_FOUND,
+            "{}: {from}",
+            stage.name
+        );
+        assert!(
+            printed.contains(&format!("{:<10} splits from {from} bodies", stage.name)),
+            "{printed}"
+        );
+    }
+    let (after, _) = headless(&config);
+    assert!(after.contains("split auto (calibrated on 2 threads"), "{after}");
+
+    // A broken calibration: a warning, the fallback, and the run goes on.
+    std::fs::write(&path, "Calibration(").unwrap();
+    let (broken, warning) = headless(&config);
+    assert!(broken.contains("no calibration"), "{broken}");
+    assert!(
+        warning.contains("warning") && warning.contains("calibration.ron"),
+        "{warning}"
     );
 }

@@ -6,7 +6,7 @@ use assert_cmd::Command;
 use bevy::math::{DVec3, Vec3};
 use kessler::Simulation;
 use kessler::components::{BodyId, BodyState};
-use kessler::execution::{Execution, ExecutionMode};
+use kessler::execution::{AutoSplit, Execution, ExecutionMode, SplitPolicy};
 use kessler::scenario::Scenario;
 
 fn sim(text: &str) -> Simulation {
@@ -138,8 +138,13 @@ fn each_body_responds_at_most_once_per_update() {
     assert_eq!((b[1].velocity.x, b[2].velocity.x), (-0.5, 0.5));
 }
 
-fn dump(scenario: &str, mode: &str, threads: &str, updates: &str, dir: &std::path::Path) -> (Vec<u8>, String) {
-    let path = dir.join(format!("{mode}-{threads}.csv"));
+fn dump(
+    scenario: &str,
+    (mode, threads, split): (&str, &str, &str),
+    updates: &str,
+    dir: &std::path::Path,
+) -> (Vec<u8>, String) {
+    let path = dir.join(format!("{mode}-{threads}-{split}.csv"));
     let scenario = format!("{}/scenarios/{scenario}", env!("CARGO_MANIFEST_DIR"));
     let out = Command::cargo_bin("kessler")
         .unwrap()
@@ -152,9 +157,13 @@ fn dump(scenario: &str, mode: &str, threads: &str, updates: &str, dir: &std::pat
             mode,
             "--threads",
             threads,
+            "--split",
+            split,
             "--dump",
         ])
         .arg(&path)
+        // No calibration of this machine: `auto` uses the fallback.
+        .env("XDG_CONFIG_HOME", dir.join("no-config"))
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -168,16 +177,23 @@ fn shatters(summary: &str) -> u64 {
 
 fn assert_dumps_identical(scenario: &str, min_shatters: u64) {
     let dir = tempfile::tempdir().unwrap();
-    let (sequential, summary) = dump(scenario, "sequential", "1", "300", dir.path());
+    let (sequential, summary) = dump(scenario, ("sequential", "1", "auto"), "300", dir.path());
     assert!(
         shatters(&summary) >= min_shatters,
         "too little shattering to prove anything: {summary}"
     );
-    for threads in ["1", "2", "3"] {
-        let (parallel, _) = dump(scenario, "parallel", threads, "300", dir.path());
+    let parallel = [
+        ("1", "always"),
+        ("2", "always"),
+        ("3", "always"),
+        ("2", "auto"),
+        ("2", "1000"),
+    ];
+    for (threads, split) in parallel {
+        let (dumped, _) = dump(scenario, ("parallel", threads, split), "300", dir.path());
         assert!(
-            sequential == parallel,
-            "{scenario}: parallel on {threads} threads differs from sequential"
+            sequential == dumped,
+            "{scenario}: parallel on {threads} threads, split {split}, differs from sequential"
         );
     }
 }
@@ -192,6 +208,46 @@ fn thesis_cloud_dumps_are_identical_in_both_modes() {
 #[test]
 fn cascade_dumps_are_identical_in_both_modes() {
     assert_dumps_identical("cascade.ron", 1000);
+}
+
+/// Split policies that split some stages and not others, at body counts
+/// that change as the cascade shatters: the state matches sequential bit
+/// for bit.
+#[test]
+fn cascade_is_bit_identical_under_every_split_policy() {
+    let scenario = Scenario::load(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/cascade.ron").as_ref()).unwrap();
+    let run = |execution: Execution| {
+        let mut s = Simulation::from_scenario(&scenario, execution).unwrap();
+        s.step(100);
+        s.snapshot()
+    };
+    let bits = |bodies: Vec<BodyState>| -> Vec<(u64, [u32; 3], [u32; 3])> {
+        bodies
+            .iter()
+            .map(|x| {
+                (
+                    x.id.0,
+                    x.position.to_array().map(f32::to_bits),
+                    x.velocity.to_array().map(f32::to_bits),
+                )
+            })
+            .collect()
+    };
+    let sequential = bits(run(Execution::new(ExecutionMode::Sequential, 1).unwrap()));
+    let calibrated = AutoSplit::calibrated(
+        vec![("gravity".into(), 0), ("sort".into(), 3500), ("response".into(), 1)],
+        "test",
+    );
+    for split in [SplitPolicy::Always, SplitPolicy::Above(3500), SplitPolicy::Auto] {
+        let execution = Execution::new(ExecutionMode::Parallel, 2)
+            .unwrap()
+            .with_split(split)
+            .with_auto_split(calibrated.clone());
+        assert!(
+            bits(run(execution)) == sequential,
+            "split {split} differs from sequential"
+        );
+    }
 }
 
 /// Every kernel split into many small chunks (not just the large inputs):

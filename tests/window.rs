@@ -133,12 +133,20 @@ fn window_shows_the_planet_and_the_bodies() {
     let (with_bodies, report, _) = run_window(dir.path(), "bodies", "()", &[]);
     let (without, ..) = run_window(dir.path(), "empty", "(render_bodies: false)", &[]);
     let (meshes, mesh_report, _) = run_window(dir.path(), "meshes", "()", &["--render", "meshes", "--bodies", "5000"]);
+    let (own, own_report, _) = run_window(
+        dir.path(),
+        "own",
+        "()",
+        &["--render", "mesh-per-body", "--bodies", "5000", "--vsync", "off"],
+    );
     assert!(report.contains("render instanced"), "{report}");
-    assert!(mesh_report.contains("render meshes"), "{mesh_report}");
+    assert!(mesh_report.contains("render shared-mesh"), "{mesh_report}");
+    assert!(own_report.contains("render mesh-per-body"), "{own_report}");
 
     let with_bodies = Picture::load(&with_bodies);
     let without = Picture::load(&without);
     let meshes = Picture::load(&meshes);
+    let own = Picture::load(&own);
     assert_eq!((with_bodies.width, with_bodies.height), (1280, 800));
 
     // Not blank: many distinct colors.
@@ -156,14 +164,100 @@ fn window_shows_the_planet_and_the_bodies() {
     );
 
     // The bodies: the debris field changes thousands of pixels of the view
-    // against the same scene drawn without bodies, in both drawing methods.
-    for (name, picture) in [("instanced", &with_bodies), ("meshes", &meshes)] {
-        let changed = with_bodies
+    // against the same scene drawn without bodies, in all three methods.
+    // Colored by state (speed) in the instanced and the mesh-per-body
+    // method; plain gray with the one shared mesh.
+    let colored = |[r, g, b]: [u8; 3]| r.max(g).max(b) - r.min(g).min(b) > 60;
+    let mut colored_share = Vec::new();
+    for (name, picture) in [
+        ("instanced", &with_bodies),
+        ("shared mesh", &meshes),
+        ("mesh per body", &own),
+    ] {
+        let changed: Vec<[u8; 3]> = with_bodies
             .scene_pixels()
             .filter(|&(x, y)| differs(picture.pixel(x, y), without.pixel(x, y)))
-            .count();
-        assert!(changed > 1000, "{name}: only {changed} pixels show bodies");
+            .map(|(x, y)| picture.pixel(x, y))
+            .collect();
+        assert!(
+            changed.len() > 1000,
+            "{name}: only {} pixels show bodies",
+            changed.len()
+        );
+        colored_share.push(changed.iter().filter(|&&p| colored(p)).count() as f64 / changed.len() as f64);
     }
+    let [instanced, shared, own] = colored_share[..] else {
+        unreachable!()
+    };
+    assert!(
+        own > 0.3 && instanced > 0.3 && shared < own / 3.0,
+        "colored share of body pixels: instanced {instanced:.2}, shared mesh {shared:.2}, mesh per body {own:.2}"
+    );
+}
+
+#[test]
+fn a_benchmark_render_run_reports_frames_memory_and_gpu_memory() {
+    if !window_available("a_benchmark_render_run_reports_frames_memory_and_gpu_memory") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("render.ron");
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis_cloud.ron");
+    std::fs::write(
+        &config,
+        format!(
+            r#"Bench(scenario: "{scenario}", runs: [
+                Render(bodies: 300, frames: 15, method: MeshPerBody),
+                Render(bodies: 300, frames: 15, method: Instanced, simulate: true, ups: 30),
+            ])"#
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("render-results.csv");
+    let result = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_kessler"))
+        .arg("bench")
+        .arg(&config)
+        .arg("--out")
+        .arg(&out)
+        .env("WGPU_BACKEND", "vulkan")
+        .env("XDG_CONFIG_HOME", dir.path().join("no-config"))
+        .output()
+        .expect("xvfb-run runs");
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "{stderr}");
+    let csv = std::fs::read_to_string(dir.path().join("render-results-render.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 3, "{csv}");
+    assert!(
+        lines[0].starts_with("run,bodies,method,simulate,mode,vsync,frames,mean_fps"),
+        "{csv}"
+    );
+    for (line, method, simulate) in [(lines[1], "mesh-per-body", "false"), (lines[2], "instanced", "true")] {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!((f[2], f[3], f[5]), (method, simulate, "off"), "{line}");
+        // The scene's 300 cubes and its planet.
+        assert_eq!(f[1], "301", "{line}");
+        let number = |k: usize| f[k].parse::<f64>().unwrap();
+        assert_eq!(f[6], "15", "frames timed after the warm-up: {line}");
+        assert!(
+            number(7) > 0.0 && number(8) > 0.0 && number(9) >= number(8) * 0.5,
+            "{line}"
+        );
+        assert!(number(11) > 1e6, "peak RAM of a window is more than a megabyte: {line}");
+        assert!(
+            number(12) > 0.0 && !f[13].is_empty() && !f[14].is_empty(),
+            "GPU memory and its source: {line}"
+        );
+    }
+    // The simulated run updated; the paused one did not.
+    let ups = |line: &str| line.split(',').nth(10).unwrap().parse::<f64>().unwrap();
+    assert_eq!(ups(lines[1]), 0.0, "{csv}");
+    assert!(ups(lines[2]) > 0.0, "{csv}");
+    // No headless runs: no results CSV, but the machine report.
+    assert!(!out.exists());
+    assert!(dir.path().join("render-results-machine.txt").exists());
 }
 
 #[test]

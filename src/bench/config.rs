@@ -6,9 +6,11 @@ use std::path::{Path, PathBuf};
 use ron::extensions::Extensions;
 use serde::{Deserialize, Deserializer};
 
-use crate::execution::{ExecutionMode, MAX_THREADS};
-use crate::input::{InputError, body_count, load_ron, whole_at_least, whole_between};
-use crate::scenario::{MAX_BODIES, Scenario};
+use crate::WINDOW_BUILD;
+use crate::draw_method::DrawMethod;
+use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy};
+use crate::input::{InputError, body_count, load_ron, read, whole_at_least, whole_between};
+use crate::scenario::{MAX_BODIES, Scenario, checked};
 
 /// A benchmark: runs of one scenario at several sizes and execution modes.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -24,7 +26,16 @@ pub struct BenchConfig {
     #[serde(default = "one_pass", deserialize_with = "repeat")]
     pub repeat: u32,
     /// The runs, measured in this order in every pass.
-    pub runs: Vec<Run>,
+    pub runs: Vec<BenchRun>,
+}
+
+/// One entry of a config's `runs`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+pub enum BenchRun {
+    /// Updates measured headless.
+    Run(Run),
+    /// Frames measured in the window (the window build only).
+    Render(RenderRun),
 }
 
 /// Most passes a config may ask for.
@@ -54,6 +65,48 @@ pub struct Run {
     /// Which stages are on (default: all).
     #[serde(default)]
     pub stages: Stages,
+    /// From which body count stages split their work in parallel mode;
+    /// default: `--split`, else `Auto`.
+    #[serde(default, deserialize_with = "split")]
+    pub split: Option<SplitPolicy>,
+    /// Seed of the generators and fragments (default: the scenario's).
+    #[serde(default, deserialize_with = "seed")]
+    pub seed: Option<u64>,
+    /// Fragments per shatter (default: the scenario's).
+    #[serde(default, deserialize_with = "shatter_fragments")]
+    pub shatter_fragments: Option<u32>,
+    /// Impact speed from which bodies shatter (default: the scenario's).
+    #[serde(default, deserialize_with = "shatter_threshold")]
+    pub shatter_threshold: Option<f32>,
+}
+
+/// A run that opens the window and measures frames (the thesis's
+/// Tables 1–3 and 5).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Render")]
+pub struct RenderRun {
+    /// Generated bodies, as in [`Run::bodies`].
+    #[serde(deserialize_with = "bodies")]
+    pub bodies: u64,
+    /// Frames to measure (after a short warm-up that is not measured).
+    #[serde(deserialize_with = "frames")]
+    pub frames: u64,
+    /// How the bodies are drawn.
+    pub method: DrawMethod,
+    /// Whether the simulation runs while drawing (default: paused, to
+    /// measure drawing alone).
+    #[serde(default)]
+    pub simulate: bool,
+    /// Execution mode of the simulation (default parallel).
+    #[serde(default)]
+    pub mode: ExecutionMode,
+    /// Target updates per second of the simulation (default 60).
+    #[serde(default, deserialize_with = "ups")]
+    pub ups: Option<u32>,
+    /// Wait for the display's refresh (default off: as fast as possible,
+    /// as the thesis measured).
+    #[serde(default)]
+    pub vsync: bool,
 }
 
 /// Stage switches of a run; the names are
@@ -96,17 +149,64 @@ fn threads<'de, D: Deserializer<'de>>(d: D) -> Result<Option<usize>, D::Error> {
     whole_between(d, "threads", 1, MAX_THREADS).map(Some)
 }
 
+fn split<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SplitPolicy>, D::Error> {
+    read(d, "split").map(Some)
+}
+
+fn seed<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
+    read(d, "seed").map(Some)
+}
+
+fn shatter_fragments<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
+    checked::shatter_fragments(d).map(Some)
+}
+
+fn shatter_threshold<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f32>, D::Error> {
+    checked::shatter_threshold(d).map(Some)
+}
+
+fn frames<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    whole_between(d, "frames", 1, 1_000_000)
+}
+
+fn ups<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
+    whole_between(d, "ups", 1, 600).map(Some)
+}
+
 impl BenchConfig {
     /// Reads and parses a config file.
     pub fn load(path: &Path) -> Result<Self, InputError> {
-        let config: Self = load_ron(path, Extensions::IMPLICIT_SOME)?;
+        let config: Self = load_ron(path, Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)?;
+        let origin = || path.display().to_string();
         if config.runs.is_empty() {
+            return Err(InputError::new(origin(), "field `runs`: lists no runs"));
+        }
+        if !WINDOW_BUILD && let Some(i) = config.runs.iter().position(|r| matches!(r, BenchRun::Render(_))) {
             return Err(InputError::new(
-                path.display().to_string(),
-                "field `runs`: lists no runs",
+                origin(),
+                format!(
+                    "runs[{i}]: `Render` runs open the window, which this build of Kessler lacks \
+                     (build it with the default features, without --no-default-features)"
+                ),
             ));
         }
         Ok(config)
+    }
+
+    /// The headless runs, with their positions in `runs`.
+    pub fn update_runs(&self) -> impl Iterator<Item = (usize, &Run)> {
+        self.runs.iter().enumerate().filter_map(|(i, r)| match r {
+            BenchRun::Run(run) => Some((i, run)),
+            BenchRun::Render(_) => None,
+        })
+    }
+
+    /// The window runs, with their positions in `runs`.
+    pub fn render_runs(&self) -> impl Iterator<Item = (usize, &RenderRun)> {
+        self.runs.iter().enumerate().filter_map(|(i, r)| match r {
+            BenchRun::Render(run) => Some((i, run)),
+            BenchRun::Run(_) => None,
+        })
     }
 
     /// The scenario the runs scale: the file named in the config (relative
@@ -122,17 +222,40 @@ impl BenchConfig {
         }
     }
 
-    /// The scenario resized for each run, before any is measured, so that
+    /// The scenario resized for each run (headless and window runs), with
+    /// the run's seed and shatter settings, before any is measured, so that
     /// a bad run fails fast.
     pub fn size_runs(&self, scenario: &Scenario, config_path: &Path) -> Result<Vec<Scenario>, InputError> {
         self.runs
             .iter()
             .enumerate()
             .map(|(i, run)| {
+                let (bodies, scenario) = match run {
+                    BenchRun::Run(run) => (run.bodies, run.apply_to(scenario)),
+                    BenchRun::Render(run) => (run.bodies, scenario.clone()),
+                };
                 scenario
-                    .with_generated(run.bodies)
+                    .with_generated(bodies)
                     .map_err(|e| InputError::new(config_path.display().to_string(), format!("runs[{i}]: {e}")))
             })
             .collect()
+    }
+}
+
+impl Run {
+    /// `scenario` with this run's seed and shatter settings, where it sets
+    /// them.
+    pub fn apply_to(&self, scenario: &Scenario) -> Scenario {
+        let mut scenario = scenario.clone();
+        if let Some(seed) = self.seed {
+            scenario.seed = seed;
+        }
+        if let Some(fragments) = self.shatter_fragments {
+            scenario.shatter_fragments = fragments;
+        }
+        if let Some(threshold) = self.shatter_threshold {
+            scenario.shatter_threshold = threshold;
+        }
+        scenario
     }
 }

@@ -1,25 +1,38 @@
 //! The files a benchmark writes, all beside its results CSV, none of them
-//! ever over an existing file.
+//! ever over an existing file. The results, their passes, the window runs'
+//! frames and the machine report are written as the benchmark goes, so an
+//! interrupted benchmark keeps what it measured; the overhead report, the
+//! crossover and the plot when it ends.
 
 use std::path::{Path, PathBuf};
 
-use super::{RunResult, overhead_rows, png, svg, write_overhead, write_results};
-use crate::output::{OutputError, WriteError, check_new, write_atomically};
+use super::{
+    CROSSOVER_HEADER, Crossover, OVERHEAD_HEADER, RunResult, overhead_rows, passes_header, png, result_row,
+    results_header, svg,
+};
+use crate::output::{AppendedFile, OutputError, WriteError, check_new, write_atomically};
 
 /// What to do when an output exists already.
 const NEVER_OVERWRITE: &str = "remove it or choose another --out (results are never overwritten)";
 
-/// The results CSV and, beside it, `<stem>-overhead.csv`, `<stem>.svg` and
-/// `<stem>.png`.
+/// The results CSV (`--out`) and, beside it, files named after its stem.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct BenchOutputs {
-    /// The results CSV (`--out`).
+    /// The results: a row per headless run (its median pass).
     pub results: PathBuf,
-    /// The overhead report.
+    /// `<stem>-passes.csv`: a row per pass of every headless run.
+    pub passes: PathBuf,
+    /// `<stem>-overhead.csv`: what splitting costs (the thesis's Table 6).
     pub overhead: PathBuf,
-    /// The plot as SVG.
+    /// `<stem>-crossover.csv`: where parallel starts to pay.
+    pub crossover: PathBuf,
+    /// `<stem>-machine.txt`: the machine and build.
+    pub machine: PathBuf,
+    /// `<stem>-render.csv`: the window runs' frames.
+    pub render: PathBuf,
+    /// `<stem>.svg`: the plot.
     pub plot_svg: PathBuf,
-    /// The plot as PNG.
+    /// `<stem>.png`: the plot.
     pub plot_png: PathBuf,
 }
 
@@ -34,6 +47,54 @@ pub enum BenchOutputError {
     Plot(#[from] super::PlotError),
 }
 
+/// The files that grow while the benchmark runs.
+#[derive(Debug)]
+pub struct GrowingOutputs {
+    /// Results rows, as each run's last pass ends.
+    pub results: Option<AppendedFile>,
+    /// Pass rows, as each pass of a run ends.
+    pub passes: Option<AppendedFile>,
+    /// Window rows, as each window run ends.
+    pub render: Option<AppendedFile>,
+}
+
+impl GrowingOutputs {
+    /// Adds `result`, measured in pass `pass`, to the passes.
+    pub fn add_pass(&mut self, pass: u64, result: &RunResult) -> Result<(), WriteError> {
+        match &mut self.passes {
+            Some(file) => file.append(&format!("{pass},{}", result_row(result))),
+            None => Ok(()),
+        }
+    }
+
+    /// Adds a run's final figure to the results.
+    pub fn add_result(&mut self, result: &RunResult) -> Result<(), WriteError> {
+        match &mut self.results {
+            Some(file) => file.append(&result_row(result)),
+            None => Ok(()),
+        }
+    }
+
+    /// Adds a window run's row.
+    pub fn add_render(&mut self, row: &str) -> Result<(), WriteError> {
+        match &mut self.render {
+            Some(file) => file.append(row),
+            None => Ok(()),
+        }
+    }
+}
+
+/// What [`BenchOutputs::finish`] wrote besides the plot.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Finished {
+    /// The overhead report.
+    pub overhead: bool,
+    /// The crossover.
+    pub crossover: bool,
+    /// The plot.
+    pub plot: bool,
+}
+
 impl BenchOutputs {
     /// The outputs of results written to `results`.
     pub fn beside(results: &Path) -> Self {
@@ -44,15 +105,28 @@ impl BenchOutputs {
         let sibling = |suffix: &str| results.with_file_name(format!("{stem}{suffix}"));
         Self {
             results: results.to_owned(),
+            passes: sibling("-passes.csv"),
             overhead: sibling("-overhead.csv"),
+            crossover: sibling("-crossover.csv"),
+            machine: sibling("-machine.txt"),
+            render: sibling("-render.csv"),
             plot_svg: sibling(".svg"),
             plot_png: sibling(".png"),
         }
     }
 
     /// Every output path, results first.
-    pub fn paths(&self) -> [&Path; 4] {
-        [&self.results, &self.overhead, &self.plot_svg, &self.plot_png]
+    pub fn paths(&self) -> [&Path; 8] {
+        [
+            &self.results,
+            &self.passes,
+            &self.overhead,
+            &self.crossover,
+            &self.machine,
+            &self.render,
+            &self.plot_svg,
+            &self.plot_png,
+        ]
     }
 
     /// Refuses, before any run, if an output exists or its folder does not.
@@ -62,21 +136,74 @@ impl BenchOutputs {
             .try_for_each(|path| check_new("--out", path, NEVER_OVERWRITE))
     }
 
-    /// Writes the results, the overhead report (when a body count was run
-    /// both sequentially and in parallel on one thread; returns whether)
-    /// and the plot titled `title`.
-    pub fn write(&self, results: &[RunResult], title: &str) -> Result<bool, BenchOutputError> {
-        write_atomically(&self.results, |w| write_results(results, w))?;
-        let overhead = overhead_rows(results);
-        if !overhead.is_empty() {
-            write_atomically(&self.overhead, |w| write_overhead(&overhead, w))?;
-        }
-        let plot = svg(results, title)?;
-        write_atomically(&self.plot_svg, |w| w.write_all(plot.as_bytes()))?;
-        let plot = png(results, title)?;
-        write_atomically(&self.plot_png, |w| w.write_all(&plot))?;
-        Ok(!overhead.is_empty())
+    /// Writes the machine report and creates the files that grow while the
+    /// benchmark runs: the results and passes if there are headless runs,
+    /// the window rows (with `render_header`) if there are window runs.
+    pub fn start(
+        &self,
+        machine: &str,
+        headless: bool,
+        render_header: Option<&str>,
+    ) -> Result<GrowingOutputs, WriteError> {
+        write_atomically(&self.machine, |w| w.write_all(machine.as_bytes()))?;
+        let results = headless
+            .then(|| AppendedFile::create(&self.results, &results_header()))
+            .transpose()?;
+        let passes = headless
+            .then(|| AppendedFile::create(&self.passes, &passes_header()))
+            .transpose()?;
+        let render = render_header
+            .map(|header| AppendedFile::create(&self.render, header))
+            .transpose()?;
+        Ok(GrowingOutputs {
+            results,
+            passes,
+            render,
+        })
     }
+
+    /// Writes the overhead report (the runs' pairs, then `empty_steps`),
+    /// the crossovers and the plot titled `title` of the headless results.
+    pub fn finish(
+        &self,
+        results: &[RunResult],
+        empty_steps: &[String],
+        crossovers: &[Crossover],
+        title: &str,
+    ) -> Result<Finished, BenchOutputError> {
+        let mut finished = Finished::default();
+        if results.is_empty() {
+            return Ok(finished);
+        }
+        let mut overhead = overhead_rows(results);
+        overhead.extend_from_slice(empty_steps);
+        if !overhead.is_empty() {
+            write_atomically(&self.overhead, |w| {
+                write_lines(w, OVERHEAD_HEADER, overhead.iter().cloned())
+            })?;
+            finished.overhead = true;
+        }
+        if !crossovers.is_empty() {
+            write_atomically(&self.crossover, |w| {
+                write_lines(w, CROSSOVER_HEADER, crossovers.iter().map(Crossover::row))
+            })?;
+            finished.crossover = true;
+        }
+        let plot = svg(results, crossovers, title)?;
+        write_atomically(&self.plot_svg, |w| w.write_all(plot.as_bytes()))?;
+        let plot = png(results, crossovers, title)?;
+        write_atomically(&self.plot_png, |w| w.write_all(&plot))?;
+        finished.plot = true;
+        Ok(finished)
+    }
+}
+
+fn write_lines(w: &mut dyn std::io::Write, header: &str, rows: impl Iterator<Item = String>) -> std::io::Result<()> {
+    writeln!(w, "{header}")?;
+    for row in rows {
+        writeln!(w, "{row}")?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -86,7 +213,11 @@ mod tests {
     #[test]
     fn outputs_sit_beside_the_results() {
         let outputs = BenchOutputs::beside(Path::new("out/thesis.csv"));
+        assert_eq!(outputs.passes, Path::new("out/thesis-passes.csv"));
         assert_eq!(outputs.overhead, Path::new("out/thesis-overhead.csv"));
+        assert_eq!(outputs.crossover, Path::new("out/thesis-crossover.csv"));
+        assert_eq!(outputs.machine, Path::new("out/thesis-machine.txt"));
+        assert_eq!(outputs.render, Path::new("out/thesis-render.csv"));
         assert_eq!(outputs.plot_svg, Path::new("out/thesis.svg"));
         assert_eq!(outputs.plot_png, Path::new("out/thesis.png"));
     }

@@ -1,7 +1,8 @@
 //! The benchmark plot: update time against body count, log–log, one color
-//! per execution setting (sequential, parallel on T threads), a thick line
-//! for the whole update and a thin dashed line for each stage of the stage
-//! list. Drawn with plotters as SVG and as PNG; the labels use the Ubuntu
+//! per execution setting (sequential, parallel on T threads with its split
+//! policy), a thick line for the whole update and a thin dashed line for
+//! each stage of the stage list, and a vertical mark where parallel with
+//! split `Always` starts to beat sequential (the crossover). Drawn with plotters as SVG and as PNG; the labels use the Ubuntu
 //! font that `epaint_default_fonts` bundles (the crate egui takes its fonts
 //! from), so the PNG reads the same on every machine, with or without
 //! system fonts.
@@ -13,15 +14,16 @@ use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
+use super::crossover::Crossover;
 use super::run::RunResult;
-use crate::execution::ExecutionMode;
+use crate::execution::{ExecutionMode, SplitPolicy};
 use crate::output::write_png;
 use crate::systems::STAGES;
 
 /// Width and height of the plot in pixels.
-pub const PLOT_SIZE: (u32, u32) = (960, 600);
+pub const PLOT_SIZE: (u32, u32) = (1060, 620);
 /// Width of the legend at the right.
-const LEGEND_WIDTH: u32 = 230;
+const LEGEND_WIDTH: u32 = 290;
 /// The font family every text is set in (registered as Ubuntu Light).
 const FONT: &str = "sans-serif";
 /// Colors of the execution settings, in turn.
@@ -40,23 +42,25 @@ const SETTING_COLORS: [RGBColor; 6] = [
 pub struct PlotError(String);
 
 /// The plot as an SVG document.
-pub fn svg(results: &[RunResult], title: &str) -> Result<String, PlotError> {
+pub fn svg(results: &[RunResult], crossovers: &[Crossover], title: &str) -> Result<String, PlotError> {
     let mut text = String::new();
     draw(
         SVGBackend::with_string(&mut text, PLOT_SIZE).into_drawing_area(),
         results,
+        crossovers,
         title,
     )?;
     Ok(text)
 }
 
 /// The plot as a PNG image.
-pub fn png(results: &[RunResult], title: &str) -> Result<Vec<u8>, PlotError> {
+pub fn png(results: &[RunResult], crossovers: &[Crossover], title: &str) -> Result<Vec<u8>, PlotError> {
     let (width, height) = PLOT_SIZE;
     let mut rgb = vec![0u8; (width * height * 3) as usize];
     draw(
         BitMapBackend::with_buffer(&mut rgb, PLOT_SIZE).into_drawing_area(),
         results,
+        crossovers,
         title,
     )?;
     let mut png = Vec::new();
@@ -84,21 +88,46 @@ fn decades(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     10f64.powf(lo)..10f64.powf(hi.max(lo + 1.0))
 }
 
+/// An execution setting: mode, threads, and split policy (`None` in
+/// sequential mode, where it does not apply).
+type Setting = (ExecutionMode, usize, Option<String>);
+
+fn setting_of(r: &RunResult) -> Setting {
+    let split = (r.mode == ExecutionMode::Parallel).then(|| r.split.to_string());
+    (r.mode, r.threads, split)
+}
+
 /// What a setting is called in the legend.
-fn setting_name(mode: ExecutionMode, threads: usize) -> String {
-    match mode {
-        ExecutionMode::Sequential => mode.to_string(),
-        ExecutionMode::Parallel => format!("{mode}, {threads} thread{}", if threads == 1 { "" } else { "s" }),
+fn setting_name((mode, threads, split): &Setting) -> String {
+    match split {
+        None => mode.to_string(),
+        Some(split) => {
+            let split = if split.parse::<u64>().is_ok() {
+                format!("from {split}")
+            } else {
+                split.clone()
+            };
+            format!(
+                "{mode}, {threads} thread{}, split {split}",
+                if *threads == 1 { "" } else { "s" }
+            )
+        }
     }
 }
 
-fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, results: &[RunResult], title: &str) -> Result<(), PlotError> {
-    draw_on(root, results, title).map_err(|e| PlotError(e.to_string()))
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    results: &[RunResult],
+    crossovers: &[Crossover],
+    title: &str,
+) -> Result<(), PlotError> {
+    draw_on(root, results, crossovers, title).map_err(|e| PlotError(e.to_string()))
 }
 
 fn draw_on<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     results: &[RunResult],
+    crossovers: &[Crossover],
     title: &str,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     static FONT_REGISTERED: Once = Once::new();
@@ -108,9 +137,9 @@ fn draw_on<DB: DrawingBackend>(
     });
     let ms = |ns: f64| ns / 1e6;
     // Runs by execution setting, sequential first.
-    let mut settings: BTreeMap<(ExecutionMode, usize), Vec<&RunResult>> = BTreeMap::new();
+    let mut settings: BTreeMap<Setting, Vec<&RunResult>> = BTreeMap::new();
     for r in results.iter().filter(|r| r.bodies_start > 0) {
-        settings.entry((r.mode, r.threads)).or_default().push(r);
+        settings.entry(setting_of(r)).or_default().push(r);
     }
     let all = || settings.values().flatten();
     let x_range = decades(all().map(|r| r.bodies_start as f64));
@@ -127,7 +156,7 @@ fn draw_on<DB: DrawingBackend>(
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(80)
-        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+        .build_cartesian_2d(x_range.log_scale(), y_range.clone().log_scale())?;
     chart
         .configure_mesh()
         .x_desc("bodies")
@@ -151,21 +180,47 @@ fn draw_on<DB: DrawingBackend>(
             chart.draw_series(DashedLineSeries::new(line, length, gap, color.stroke_width(1)))?;
         }
     }
-    draw_legend(&legend_area, settings.keys().copied())
+    // The crossover of the whole update: a vertical line in the color of
+    // the `Always` setting it belongs to.
+    let always = SplitPolicy::Always.to_string();
+    for c in crossovers.iter().filter(|c| c.stage == "update") {
+        let (Some(n), Some(i)) = (
+            c.from_bodies.filter(|&n| n > 0),
+            settings.keys().position(|(mode, threads, split)| {
+                *mode == ExecutionMode::Parallel && *threads == c.threads && split.as_ref() == Some(&always)
+            }),
+        ) else {
+            continue;
+        };
+        let color = SETTING_COLORS[i % SETTING_COLORS.len()];
+        let x = n as f64;
+        chart.draw_series(DashedLineSeries::new(
+            [(x, y_range.start), (x, y_range.end)],
+            8,
+            4,
+            color.stroke_width(2),
+        ))?;
+        chart.draw_series(std::iter::once(Text::new(
+            format!("crossover: {n}"),
+            (x * 1.08, y_range.end / 2.0),
+            (FONT, 13).into_font().color(&color),
+        )))?;
+    }
+    draw_legend(&legend_area, settings.keys())
 }
 
 /// The legend: a color swatch per setting, then the line style of the whole
 /// update and of each stage.
-fn draw_legend<DB: DrawingBackend>(
+fn draw_legend<'a, DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
-    settings: impl Iterator<Item = (ExecutionMode, usize)>,
+    settings: impl Iterator<Item = &'a Setting>,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let text = (FONT, 13).into_font().color(&BLACK);
     let mut y = 60;
-    for (i, (mode, threads)) in settings.enumerate() {
+    for (i, setting) in settings.enumerate() {
         let color = SETTING_COLORS[i % SETTING_COLORS.len()];
         area.draw(&Rectangle::new([(10, y - 7), (24, y + 7)], color.filled()))?;
-        area.draw(&Text::new(setting_name(mode, threads), (32, y - 7), text.clone()))?;
+        area.draw(&Text::new(setting_name(setting), (32, y - 7), text.clone()))?;
         y += 22;
     }
     y += 12;
@@ -195,11 +250,13 @@ mod tests {
         stage_ns[SimulationSystems::Response as usize] = 0.0;
         RunResult {
             run: 1,
+            bodies: bodies as u64,
             bodies_start: bodies,
             bodies_end: bodies,
             updates: 1,
             mode,
             threads,
+            split: SplitPolicy::Always,
             update_ns: ns,
             stage_ns,
         }
@@ -217,12 +274,25 @@ mod tests {
 
     #[test]
     fn svg_has_the_title_the_legend_and_a_line_per_setting() {
-        let svg = svg(&results(), "a < b").unwrap();
+        let crossover = Crossover {
+            stage: "update",
+            threads: 2,
+            from_bodies: Some(1000),
+            counts: 2,
+            auto_worst: None,
+        };
+        let svg = svg(&results(), &[crossover], "a < b").unwrap();
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
         // Each text element's content stands on a line of its own.
         let has_text = |text: &str| svg.lines().any(|l| l.trim() == text);
         assert!(has_text("a &lt; b"), "the title, escaped");
-        for text in ["sequential", "parallel, 2 threads", "whole update", "bodies"] {
+        for text in [
+            "sequential",
+            "parallel, 2 threads, split always",
+            "whole update",
+            "bodies",
+            "crossover: 1000",
+        ] {
             assert!(has_text(text), "missing {text}");
         }
         for stage in &STAGES {
@@ -248,7 +318,7 @@ mod tests {
 
     #[test]
     fn png_shows_lines_and_text_on_white() {
-        let png = png(&results(), "t").unwrap();
+        let png = png(&results(), &[], "t").unwrap();
         let decoder = ::png::Decoder::new(std::io::Cursor::new(png));
         let mut reader = decoder.read_info().unwrap();
         let mut rgb = vec![0; reader.output_buffer_size().unwrap()];

@@ -1,10 +1,9 @@
-//! Results files: the per-run CSV (docs/design.md, "Benchmark results") and
-//! the overhead report. Both take their stage columns from the stage list.
-
-use std::io::{self, Write};
+//! Results files: the per-run CSV (docs/design.md, "Benchmark results"),
+//! its per-pass twin, and the overhead report. Their stage columns come
+//! from the stage list.
 
 use super::run::RunResult;
-use crate::execution::ExecutionMode;
+use crate::execution::{ExecutionMode, SplitPolicy};
 use crate::systems::STAGES;
 
 /// The results CSV's stage columns in the order the contract fixes (each
@@ -12,8 +11,10 @@ use crate::systems::STAGES;
 /// in stage order: see [`stage_columns`].
 pub const CONTRACT_STAGE_COLUMNS: [&str; 4] = ["broad_phase", "response", "gravity", "integrate"];
 
-/// Header of the overhead report.
-pub const OVERHEAD_HEADER: &str = "bodies,stage,sequential_ns,parallel_1_thread_ns,overhead_ns,overhead_percent";
+/// Header of the overhead report: the thesis's Table 6 columns, in µs per
+/// update (per step for `empty_step`).
+pub const OVERHEAD_HEADER: &str =
+    "bodies,stage,threads,with_overhead_us,without_overhead_us,overhead_us,overhead_percent";
 
 /// The stage columns of the results CSV: the contract's, then any other
 /// column a stage counts in.
@@ -35,8 +36,12 @@ pub fn results_header() -> String {
     )
 }
 
-/// The results' stage columns in update order (each once): the rows of the
-/// overhead report.
+/// Header of the per-pass results: the pass, then the results columns.
+pub fn passes_header() -> String {
+    format!("pass,{}", results_header())
+}
+
+/// The results' stage columns in update order (each once).
 pub fn columns_in_stage_order() -> Vec<&'static str> {
     let mut columns: Vec<&'static str> = Vec::new();
     for column in STAGES.iter().flat_map(|s| s.columns) {
@@ -56,91 +61,102 @@ pub fn column_ns(result: &RunResult, column: &str) -> f64 {
         .sum()
 }
 
-/// Writes the results CSV: mean nanoseconds per update, rounded.
-pub fn write_results(results: &[RunResult], mut out: impl Write) -> io::Result<()> {
-    let columns = stage_columns();
-    writeln!(out, "{}", results_header())?;
-    for r in results {
-        write!(
-            out,
-            "{},{},{},{},{},{},{:.0}",
-            r.run, r.bodies_start, r.bodies_end, r.updates, r.mode, r.threads, r.update_ns
-        )?;
-        for column in &columns {
-            write!(out, ",{:.0}", column_ns(r, column))?;
-        }
-        writeln!(out)?;
+/// One row of the results CSV (no line end): mean nanoseconds per update,
+/// rounded.
+pub fn result_row(r: &RunResult) -> String {
+    let mut row = format!(
+        "{},{},{},{},{},{},{:.0}",
+        r.run, r.bodies_start, r.bodies_end, r.updates, r.mode, r.threads, r.update_ns
+    );
+    for column in stage_columns() {
+        row.push_str(&format!(",{:.0}", column_ns(r, column)));
     }
-    out.flush()
+    row
 }
 
-/// The fixed cost of going parallel (the thesis's Table 6): for every body
-/// count measured both sequentially and in parallel mode on one thread, the
-/// time of the whole update and of each results column in both, and the
+/// The whole update and each stage of a result, by name, in ns per update.
+pub fn times_by_stage(r: &RunResult) -> impl Iterator<Item = (&'static str, f64)> + '_ {
+    std::iter::once(("update", r.update_ns)).chain(STAGES.iter().map(|s| (s.name, r.stage(s.stage))))
+}
+
+/// One row of the overhead report.
+fn overhead_row(bodies: u64, stage: &str, threads: usize, with_ns: f64, without_ns: f64) -> String {
+    let percent = if without_ns > 0.0 {
+        (with_ns - without_ns) / without_ns * 100.0
+    } else {
+        0.0
+    };
+    format!(
+        "{bodies},{stage},{threads},{:.3},{:.3},{:.3},{percent:.1}",
+        with_ns / 1e3,
+        without_ns / 1e3,
+        (with_ns - without_ns) / 1e3
+    )
+}
+
+/// What splitting costs (the thesis's Table 6): for every body count run
+/// both sequentially (each stage whole) and in parallel mode on one thread
+/// with split `Always` (each stage cut into chunks, but no second thread to
+/// gain from), the whole update and every stage in both, and the
 /// difference. Empty if no such pair was run.
 pub fn overhead_rows(results: &[RunResult]) -> Vec<String> {
     let mut rows = Vec::new();
     for seq in results.iter().filter(|r| r.mode == ExecutionMode::Sequential) {
-        let Some(par) = results
-            .iter()
-            .find(|r| r.mode == ExecutionMode::Parallel && r.threads == 1 && r.bodies_start == seq.bodies_start)
-        else {
+        let Some(split) = results.iter().find(|r| {
+            r.mode == ExecutionMode::Parallel
+                && r.threads == 1
+                && r.split == SplitPolicy::Always
+                && r.bodies == seq.bodies
+        }) else {
             continue;
         };
-        let update = ("update", seq.update_ns, par.update_ns);
-        let columns = columns_in_stage_order()
-            .into_iter()
-            .map(|c| (c, column_ns(seq, c), column_ns(par, c)));
-        for (stage, s, p) in std::iter::once(update).chain(columns) {
-            let percent = if s > 0.0 { (p - s) / s * 100.0 } else { 0.0 };
-            rows.push(format!(
-                "{},{stage},{s:.0},{p:.0},{:.0},{percent:.1}",
-                seq.bodies_start,
-                p - s
-            ));
+        for ((stage, with_ns), (_, without_ns)) in times_by_stage(split).zip(times_by_stage(seq)) {
+            rows.push(overhead_row(seq.bodies, stage, 1, with_ns, without_ns));
         }
     }
     rows
 }
 
-/// Writes the overhead report.
-pub fn write_overhead(rows: &[String], mut out: impl Write) -> io::Result<()> {
-    writeln!(out, "{OVERHEAD_HEADER}")?;
-    rows.iter().try_for_each(|row| writeln!(out, "{row}"))
+/// The bare cost of one parallel step on `threads` threads: a near-empty
+/// kernel split into chunks (`with_ns`) against the same kernel called
+/// whole (`without_ns`), per step.
+pub fn empty_step_row(threads: usize, with_ns: f64, without_ns: f64) -> String {
+    overhead_row(0, "empty_step", threads, with_ns, without_ns)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::systems::STAGE_COUNT;
+    use crate::systems::{STAGE_COUNT, SimulationSystems};
 
-    fn result(run: usize, bodies: usize, mode: ExecutionMode, threads: usize, ns: f64) -> RunResult {
+    fn result(run: usize, bodies: u64, mode: ExecutionMode, threads: usize, split: SplitPolicy, ns: f64) -> RunResult {
         RunResult {
             run,
-            bodies_start: bodies,
-            bodies_end: bodies + 3,
+            bodies,
+            bodies_start: bodies as usize + 1,
+            bodies_end: bodies as usize + 4,
             updates: 10,
             mode,
             threads,
+            split,
             update_ns: ns,
             stage_ns: [ns / 8.0; STAGE_COUNT],
         }
     }
 
     #[test]
-    fn results_csv_has_the_contract_header_and_one_row_per_run() {
+    fn results_rows_follow_the_contract_header_then_sort_and_sweep() {
         assert_eq!(
             results_header(),
-            "run,bodies_start,bodies_end,updates,mode,threads,update_ns,broad_phase_ns,response_ns,gravity_ns,integrate_ns"
+            "run,bodies_start,bodies_end,updates,mode,threads,update_ns,broad_phase_ns,response_ns,gravity_ns,integrate_ns,sort_ns,sweep_ns"
         );
-        let mut out = Vec::new();
-        write_results(&[result(1, 1001, ExecutionMode::Parallel, 2, 1600.0)], &mut out).unwrap();
-        let text = String::from_utf8(out).unwrap();
-        // Response and shatter both count in `response_ns`.
-        assert_eq!(
-            text,
-            format!("{}\n1,1001,1004,10,parallel,2,1600,200,400,200,200\n", results_header())
-        );
+        let mut r = result(1, 1000, ExecutionMode::Parallel, 2, SplitPolicy::Auto, 1600.0);
+        r.stage_ns[SimulationSystems::Sort as usize] = 30.0;
+        r.stage_ns[SimulationSystems::Sweep as usize] = 70.0;
+        // Broad phase = sort + sweep; response and shatter both count in
+        // `response_ns`.
+        assert_eq!(result_row(&r), "1,1001,1004,10,parallel,2,1600,100,400,200,200,30,70");
+        assert_eq!(passes_header(), format!("pass,{}", results_header()));
     }
 
     #[test]
@@ -158,21 +174,24 @@ mod tests {
     }
 
     #[test]
-    fn overhead_pairs_sequential_with_parallel_on_one_thread() {
+    fn overhead_pairs_whole_stages_with_always_split_on_one_thread() {
         let rows = overhead_rows(&[
-            result(1, 100, ExecutionMode::Sequential, 1, 1000.0),
-            result(2, 100, ExecutionMode::Parallel, 1, 1100.0),
-            result(3, 100, ExecutionMode::Parallel, 2, 600.0),
-            result(4, 500, ExecutionMode::Sequential, 1, 5000.0),
+            result(1, 100, ExecutionMode::Sequential, 1, SplitPolicy::Auto, 1000.0),
+            result(2, 100, ExecutionMode::Parallel, 1, SplitPolicy::Always, 1100.0),
+            result(3, 100, ExecutionMode::Parallel, 2, SplitPolicy::Always, 600.0),
+            result(4, 500, ExecutionMode::Sequential, 1, SplitPolicy::Auto, 5000.0),
+            // Auto on one thread may not split at all: not an overhead pair.
+            result(5, 500, ExecutionMode::Parallel, 1, SplitPolicy::Auto, 5000.0),
         ]);
         let names: Vec<&str> = rows.iter().map(|r| r.split(',').nth(1).unwrap()).collect();
+        let mut expected = vec!["update"];
+        expected.extend(STAGES.iter().map(|s| s.name));
+        assert_eq!(names, expected, "one body count with both: the update, then each stage");
+        assert_eq!(rows[0], "100,update,1,1.100,1.000,0.100,10.0");
+        assert!(rows[1].starts_with("100,gravity,1,"), "{}", rows[1]);
         assert_eq!(
-            names,
-            ["update", "gravity", "integrate", "broad_phase", "response"],
-            "one body count with both: the update and each column, in update order"
+            empty_step_row(2, 3500.0, 500.0),
+            "0,empty_step,2,3.500,0.500,3.000,600.0"
         );
-        assert_eq!(rows[0], "100,update,1000,1100,100,10.0");
-        // Response and shatter count together, as in the results CSV.
-        assert_eq!(rows[4], "100,response,250,275,25,10.0");
     }
 }

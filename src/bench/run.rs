@@ -2,7 +2,7 @@
 
 use super::config::Run;
 use crate::Simulation;
-use crate::execution::{Execution, ExecutionError, ExecutionMode, available_threads};
+use crate::execution::{AutoSplit, Execution, ExecutionError, ExecutionMode, SplitPolicy, available_threads};
 use crate::input::InputError;
 use crate::scenario::Scenario;
 use crate::systems::{STAGE_COUNT, SimulationSystems};
@@ -12,6 +12,8 @@ use crate::systems::{STAGE_COUNT, SimulationSystems};
 pub struct RunResult {
     /// Position of the run in the config, from 1.
     pub run: usize,
+    /// Generated bodies the config asked for.
+    pub bodies: u64,
     /// Bodies after the warm-up update.
     pub bodies_start: usize,
     /// Bodies after the last update.
@@ -22,6 +24,8 @@ pub struct RunResult {
     pub mode: ExecutionMode,
     /// Threads the stages ran on (1 in sequential mode).
     pub threads: usize,
+    /// From which body count stages split (meaningless in sequential mode).
+    pub split: SplitPolicy,
     /// Mean time of a whole update.
     pub update_ns: f64,
     /// Mean time of each stage, indexed by stage (0 for a stage that was
@@ -47,17 +51,32 @@ pub enum RunError {
     Scenario(#[from] InputError),
 }
 
-/// Runs `run` on `scenario` (already scaled to the run's size): one warm-up
-/// update that is not measured, then `run.updates` measured updates;
-/// `progress` is told how many measured updates are done, now and then.
+/// How runs execute where they do not say: the split policy (`--split`)
+/// and the per-stage counts of `Auto`.
+#[derive(Clone, Debug, Default)]
+pub struct RunDefaults {
+    /// Split policy of runs that set none.
+    pub split: SplitPolicy,
+    /// What `Auto` uses.
+    pub auto: AutoSplit,
+}
+
+/// Runs `run` on `scenario` (already scaled to the run's size, with its
+/// seed and shatter settings): one warm-up update that is not measured,
+/// then `run.updates` measured updates; `progress` is told how many
+/// measured updates are done, now and then.
 pub fn measure(
     index: usize,
     scenario: &Scenario,
     run: &Run,
+    defaults: &RunDefaults,
     mut progress: impl FnMut(u64),
 ) -> Result<RunResult, RunError> {
     let threads = run.threads.unwrap_or_else(available_threads);
-    let execution = Execution::new(run.mode, threads)?;
+    let split = run.split.unwrap_or(defaults.split);
+    let execution = Execution::new(run.mode, threads)?
+        .with_split(split)
+        .with_auto_split(defaults.auto.clone());
     let threads = execution.threads_used();
     let mut sim = Simulation::from_scenario(scenario, execution)?;
     {
@@ -74,11 +93,13 @@ pub fn measure(
     let timings = sim.timings();
     Ok(RunResult {
         run: index,
+        bodies: run.bodies,
         bodies_start,
         bodies_end,
         updates: run.updates,
         mode: run.mode,
         threads,
+        split,
         update_ns: timings.update.mean_ns,
         // A stage that was off ran no samples: its mean stays 0.
         stage_ns: SimulationSystems::ALL.map(|stage| timings.stage(stage).mean_ns),
@@ -103,11 +124,13 @@ mod tests {
         stage_ns[SimulationSystems::Gravity as usize] = gravity_ns;
         RunResult {
             run: 1,
+            bodies: 10,
             bodies_start: 10,
             bodies_end: 10,
             updates: 5,
             mode: ExecutionMode::Parallel,
             threads: 2,
+            split: SplitPolicy::Auto,
             update_ns,
             stage_ns,
         }

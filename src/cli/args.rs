@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use clap::builder::RangedI64ValueParser;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::execution::{ExecutionMode, MAX_THREADS};
+use crate::draw_method::DrawMethod;
+use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy};
 
 /// Thousands of bodies orbiting a planet: colliding, bouncing, shattering.
 #[derive(Debug, Parser)]
@@ -32,16 +33,35 @@ pub enum Command {
         #[command(flatten)]
         execution: ExecutionArgs,
     },
-    /// Measure the runs of a benchmark config; write CSV results, an overhead
-    /// report and a plot (SVG and PNG) beside them (never over existing
-    /// files).
+    /// Measure the runs of a benchmark config; write CSV results and, beside
+    /// them, every pass, the overhead of splitting, the crossover, the
+    /// machine, window runs' frames and a plot (never over existing files).
     Bench {
-        /// Benchmark config (RON), e.g. benches/thesis.ron.
+        /// Benchmark config (RON), e.g. benches/crossover.ron.
         config: PathBuf,
-        /// Results CSV; `<stem>-overhead.csv`, `<stem>.svg` and `<stem>.png`
-        /// go beside it.
+        /// Results CSV; `<stem>-passes.csv`, `<stem>-overhead.csv`,
+        /// `<stem>-crossover.csv`, `<stem>-machine.txt`, `<stem>-render.csv`,
+        /// `<stem>.svg` and `<stem>.png` go beside it.
         #[arg(long, value_name = "FILE", default_value = "results.csv")]
         out: PathBuf,
+        /// Split policy of runs that set none.
+        #[arg(long, value_name = "auto|always|N", default_value_t = SplitPolicy::Auto, allow_negative_numbers = true)]
+        split: SplitPolicy,
+    },
+    /// Measure from which body count each stage pays for splitting its work
+    /// on this machine (a few seconds); split policy `auto` uses the result.
+    Calibrate {
+        /// Worker threads to calibrate for [default: all hardware threads].
+        #[arg(
+            long,
+            value_parser = RangedI64ValueParser::<usize>::new().range(1..=MAX_THREADS as i64),
+            allow_negative_numbers = true
+        )]
+        threads: Option<usize>,
+        /// Where to store it [default: calibration.ron beside the settings,
+        /// ~/.config/kessler/calibration.ron].
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
     /// Check a scenario file: exit code 0, or a clear error and exit code 2.
     Validate {
@@ -63,6 +83,11 @@ pub struct ExecutionArgs {
         allow_negative_numbers = true
     )]
     pub threads: Option<usize>,
+    /// From which body count stages split their work in parallel mode:
+    /// `auto` (this machine's calibration, see `kessler calibrate`),
+    /// `always`, or a body count.
+    #[arg(long, value_name = "auto|always|N", default_value_t = SplitPolicy::Auto, allow_negative_numbers = true)]
+    pub split: SplitPolicy,
 }
 
 /// `--mode` on the command line.
@@ -107,15 +132,63 @@ pub struct RunArgs {
     /// Start with the simulation paused (to measure rendering alone).
     #[arg(long)]
     pub paused: bool,
+    /// Wait for the display's refresh, or draw as fast as possible
+    /// (overrides the saved setting).
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub vsync: Option<OnOff>,
+    /// Sequential or parallel stages (overrides the saved setting).
+    #[arg(long, value_enum)]
+    pub mode: Option<ModeArg>,
+    /// From which body count stages split their work (overrides the saved
+    /// setting).
+    #[arg(long, value_name = "auto|always|N", allow_negative_numbers = true)]
+    pub split: Option<SplitPolicy>,
+    /// Target simulation updates per second, 1–600 (overrides the saved
+    /// setting).
+    #[arg(long, value_name = "UPS", value_parser = clap::value_parser!(u32).range(1..=600))]
+    pub ups: Option<u32>,
+    /// With --frames: write what the run measured (frame times, memory,
+    /// GPU memory) to this new file, `key=value` per line (benchmark
+    /// `Render` runs read it).
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub frame_report: Option<PathBuf>,
 }
 
-/// `--render` on the command line.
+/// `--render` on the command line: the thesis's three drawing methods.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum RenderArg {
     /// All cubes in one instanced draw.
     Instanced,
-    /// One Bevy mesh entity per body.
-    Meshes,
+    /// One Bevy mesh entity per body, all sharing one mesh.
+    #[value(alias = "meshes")]
+    SharedMesh,
+    /// One Bevy mesh entity per body, each with its own copy of the mesh.
+    MeshPerBody,
+}
+
+impl From<RenderArg> for DrawMethod {
+    fn from(arg: RenderArg) -> Self {
+        match arg {
+            RenderArg::Instanced => Self::Instanced,
+            RenderArg::SharedMesh => Self::SharedMesh,
+            RenderArg::MeshPerBody => Self::MeshPerBody,
+        }
+    }
+}
+
+/// `on` or `off`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
+impl From<OnOff> for bool {
+    fn from(v: OnOff) -> Self {
+        v == OnOff::On
+    }
 }
 
 /// `kessler headless`.

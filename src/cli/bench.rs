@@ -1,59 +1,174 @@
-//! `kessler bench CONFIG [--out results.csv]`: the runs of a benchmark
-//! config, measured headless, written as CSV (plus an overhead report and a
-//! plot beside it). Existing results are never overwritten.
+//! `kessler bench CONFIG [--out results.csv] [--split auto|always|N]`: the
+//! runs of a benchmark config — headless runs measured in passes, window
+//! runs in a child window — written as they finish, then the overhead of
+//! splitting, the crossover and a plot. Existing results are never
+//! overwritten.
 
 use std::path::Path;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::Failure;
-use crate::bench::{self, BenchConfig, BenchOutputs, Run, RunResult};
+use crate::bench::{
+    self, BenchConfig, BenchOutputs, GrowingOutputs, RENDER_HEADER, RunDefaults, RunResult, Wins, crossovers,
+    empty_step_ns, empty_step_row, machine_report, measure_render, render_row,
+};
+use crate::calibration::machine_auto_split;
+use crate::execution::SplitPolicy;
 use crate::scenario::Scenario;
 
+/// Threads of the bare dispatch measurement.
+const EMPTY_STEP_THREADS: [usize; 2] = [1, 2];
+
 /// Runs the command: load and check everything, measure, write.
-pub fn bench(config_path: &Path, out: &Path) -> Result<(), Failure> {
+pub fn bench(config_path: &Path, out: &Path, split: SplitPolicy) -> Result<(), Failure> {
     let config = BenchConfig::load(config_path)?;
     let outputs = BenchOutputs::beside(out);
     outputs.check()?;
     let scenario = config.load_scenario(config_path)?;
     let sized = config.size_runs(&scenario, config_path)?;
-    let results = measure_passes(&config, &sized, config_path)?;
-    let title = format!("Kessler: {}, time per update", scenario.name);
-    let overhead = outputs.write(&results, &title)?;
-    println!(
-        "{} runs written to {}{}, plot {} and {}",
-        results.len(),
-        outputs.results.display(),
-        if overhead {
-            format!(", overhead of going parallel {}", outputs.overhead.display())
-        } else {
-            String::new()
-        },
-        outputs.plot_svg.display(),
-        outputs.plot_png.display()
+    let defaults = RunDefaults {
+        split,
+        auto: machine_auto_split(),
+    };
+    let headless = config.update_runs().next().is_some();
+    let render = config.render_runs().next().is_some();
+    let command: Vec<String> = std::env::args().collect();
+    let machine = format!(
+        "{}split auto: {}\n",
+        machine_report(&command.join(" ")),
+        defaults.auto.origin()
     );
+    let mut growing = outputs.start(&machine, headless, render.then_some(RENDER_HEADER))?;
+    let (results, passes) = measure_passes(&config, &sized, &defaults, &mut growing, config_path)?;
+    let scenario_path = config
+        .scenario
+        .as_ref()
+        .map(|p| config_path.parent().unwrap_or(Path::new(".")).join(p));
+    for (i, run) in config.render_runs() {
+        eprintln!(
+            "window run {}: {} bodies, {}, {} frames…",
+            i + 1,
+            run.bodies,
+            run.method,
+            run.frames
+        );
+        let report = measure_render(run, scenario_path.as_deref())
+            .map_err(|e| Failure::other(format!("{}: runs[{i}]: {e}", config_path.display())))?;
+        let row = render_row(i + 1, run, &report);
+        eprintln!(
+            "  {:.1} FPS, mean {:.2} ms, p95 {:.2} ms",
+            1e3 / report.mean_ms.max(1e-9),
+            report.mean_ms,
+            report.p95_ms
+        );
+        growing.add_render(&row)?;
+    }
+    let empty_steps = if headless { measure_empty_steps()? } else { Vec::new() };
+    let crossovers = crossovers(&passes, Wins::EveryPass);
+    let title = format!("Kessler: {}, time per update", scenario.name);
+    let finished = outputs.finish(&results, &empty_steps, &crossovers, &title)?;
+    print_summary(&outputs, &results, &crossovers, finished, render);
     Ok(())
 }
 
-/// Measures every run `config.repeat` times, pass after pass through all
-/// runs — so that a slow spell of the machine falls on several runs rather
-/// than on all passes of one — and keeps each run's median pass.
-fn measure_passes(config: &BenchConfig, sized: &[Scenario], config_path: &Path) -> Result<Vec<RunResult>, Failure> {
+/// The bare cost of a parallel step on 1 and 2 threads, as overhead rows.
+fn measure_empty_steps() -> Result<Vec<String>, Failure> {
+    EMPTY_STEP_THREADS
+        .iter()
+        .map(|&threads| {
+            let (split, whole) = empty_step_ns(threads)?;
+            eprintln!(
+                "one parallel step of a near-empty kernel on {threads} thread{}: {:.2} µs (whole: {:.3} µs)",
+                if threads == 1 { "" } else { "s" },
+                split / 1e3,
+                whole / 1e3
+            );
+            Ok(empty_step_row(threads, split, whole))
+        })
+        .collect()
+}
+
+fn print_summary(
+    outputs: &BenchOutputs,
+    results: &[RunResult],
+    crossovers: &[bench::Crossover],
+    finished: bench::Finished,
+    render: bool,
+) {
+    for c in crossovers.iter().filter(|c| c.stage == "update") {
+        let from = c
+            .from_bodies
+            .map_or("at no measured count".to_owned(), |n| format!("from {n} bodies"));
+        let auto = c.auto_worst.map_or(String::new(), |(p, at)| {
+            format!("; auto at most {p:.1} % over the better of the two (at {at} bodies)")
+        });
+        eprintln!(
+            "parallel (split always, {} threads) beats sequential in every pass {from}{auto}",
+            c.threads
+        );
+    }
+    let mut written: Vec<String> = Vec::new();
+    if !results.is_empty() {
+        written.push(format!("{} runs to {}", results.len(), outputs.results.display()));
+        written.push(format!("every pass to {}", outputs.passes.display()));
+    }
+    let named = [
+        (finished.overhead, "the overhead of splitting", &outputs.overhead),
+        (finished.crossover, "the crossover", &outputs.crossover),
+        (render, "window runs", &outputs.render),
+    ];
+    for (done, what, path) in named {
+        if done {
+            written.push(format!("{what} to {}", path.display()));
+        }
+    }
+    written.push(format!("the machine to {}", outputs.machine.display()));
+    if finished.plot {
+        written.push(format!(
+            "plot {} and {}",
+            outputs.plot_svg.display(),
+            outputs.plot_png.display()
+        ));
+    }
+    println!("written: {}", written.join("; "));
+}
+
+/// Measures every headless run `config.repeat` times, pass after pass
+/// through all runs — so that a slow spell of the machine falls on several
+/// runs rather than on all passes of one — and keeps each run's median
+/// pass. Every pass is written as it ends; a run's median when its last
+/// pass ends. Returns the medians and every run's passes.
+fn measure_passes(
+    config: &BenchConfig,
+    sized: &[Scenario],
+    defaults: &RunDefaults,
+    growing: &mut GrowingOutputs,
+    config_path: &Path,
+) -> Result<(Vec<RunResult>, Vec<Vec<RunResult>>), Failure> {
     let passes = u64::from(config.repeat);
     let mut progress = BenchProgress::new(config, passes);
-    let mut measured: Vec<Vec<RunResult>> = vec![Vec::new(); config.runs.len()];
+    let runs: Vec<(usize, &bench::Run)> = config.update_runs().collect();
+    let mut measured: Vec<Vec<RunResult>> = vec![Vec::new(); runs.len()];
+    let mut medians = Vec::new();
     for pass in 1..=passes {
-        for (i, (run, scenario)) in config.runs.iter().zip(sized).enumerate() {
+        for (k, &(i, run)) in runs.iter().enumerate() {
             progress.start(i, pass, run);
             bench::reset_peak_memory();
-            let result = bench::measure(i + 1, scenario, run, |done| progress.advance(done))
+            let result = bench::measure(i + 1, &sized[i], run, defaults, |done| progress.advance(done))
                 .map_err(|e| Failure::from(e).context(format_args!("{}: runs[{i}]", config_path.display())))?;
             progress.finish(run, &result, bench::peak_memory());
-            measured[i].push(result);
+            growing.add_pass(pass, &result)?;
+            measured[k].push(result);
+            if pass == passes {
+                let median = bench::median_pass(measured[k].clone()).expect("at least one pass");
+                growing.add_result(&median)?;
+                medians.push(median);
+            }
         }
     }
     progress.clear();
-    Ok(measured.into_iter().filter_map(bench::median_pass).collect())
+    Ok((medians, measured))
 }
 
 /// The progress bar over all passes, and a line per measured run.
@@ -69,7 +184,7 @@ struct BenchProgress {
 
 impl BenchProgress {
     fn new(config: &BenchConfig, passes: u64) -> Self {
-        let total: u64 = config.runs.iter().map(|r| r.updates + 1).sum::<u64>() * passes;
+        let total: u64 = config.update_runs().map(|(_, r)| r.updates + 1).sum::<u64>() * passes;
         let bar = ProgressBar::new(total).with_style(
             ProgressStyle::with_template("{spinner} [{bar:30}] {pos}/{len} updates, eta {eta} — {msg}")
                 .expect("template is valid")
@@ -84,7 +199,7 @@ impl BenchProgress {
         }
     }
 
-    fn start(&mut self, index: usize, pass: u64, run: &Run) {
+    fn start(&mut self, index: usize, pass: u64, run: &bench::Run) {
         self.of_passes = if self.passes > 1 {
             format!(" (pass {pass}/{})", self.passes)
         } else {
@@ -105,7 +220,7 @@ impl BenchProgress {
         self.bar.set_position(self.finished + 1 + done);
     }
 
-    fn finish(&mut self, run: &Run, result: &RunResult, peak_memory: Option<u64>) {
+    fn finish(&mut self, run: &bench::Run, result: &RunResult, peak_memory: Option<u64>) {
         self.finished += run.updates + 1;
         let memory = peak_memory.map_or(String::new(), |peak| {
             format!(
@@ -114,8 +229,12 @@ impl BenchProgress {
                 peak as f64 / result.bodies_start.max(1) as f64
             )
         });
+        let split = match result.mode {
+            crate::execution::ExecutionMode::Sequential => String::new(),
+            _ => format!(", split {}", result.split),
+        };
         let line = format!(
-            "run {:>3}{}: {:>8} bodies, {:>10} on {:>2} thread(s): {:>12.3} ms/update{memory}",
+            "run {:>3}{}: {:>8} bodies, {:>10} on {:>2} thread(s){split}: {:>12.3} ms/update{memory}",
             result.run,
             self.of_passes,
             result.bodies_start,

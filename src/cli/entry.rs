@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use clap::error::ErrorKind;
 
-use super::{Cli, Command, EXIT_BAD_INPUT, Failure, RunArgs, bench, headless, pairs, run, validate};
+use super::{Cli, Command, EXIT_BAD_INPUT, Failure, RunArgs, bench, calibrate, headless, pairs, run, validate};
 
 /// Entry point of the binary.
 pub fn main() -> ExitCode {
@@ -45,7 +45,8 @@ fn dispatch(command: Option<Command>) -> Result<(), Failure> {
     match command.unwrap_or(Command::Run(RunArgs::default())) {
         Command::Run(args) => run::run(args),
         Command::Headless(args) => headless::headless(&args),
-        Command::Bench { config, out } => bench::bench(&config, &out),
+        Command::Bench { config, out, split } => bench::bench(&config, &out, split),
+        Command::Calibrate { threads, out } => calibrate::calibrate_command(threads, out.as_deref()),
         Command::Pairs { scenario, execution } => pairs::pairs(&scenario, &execution),
         Command::Validate { scenario } => validate::validate(&scenario),
     }

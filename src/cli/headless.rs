@@ -7,16 +7,19 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::{ExecutionArgs, Failure, HeadlessArgs};
 use crate::Simulation;
+use crate::calibration::machine_auto_split;
 use crate::dump;
-use crate::execution::{Execution, available_threads};
+use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
 use crate::output::{check_replaceable, write_atomically};
 use crate::scenario::Scenario;
 use crate::systems::SimulationSystems;
 
-/// Makes the execution the arguments ask for.
+/// Makes the execution the arguments ask for (split policy `auto` with
+/// this machine's calibration).
 pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
     let threads = args.threads.unwrap_or_else(available_threads);
-    Execution::new(args.mode.into(), threads).map_err(|e| Failure::from(e).context("--threads"))
+    let execution = Execution::new(args.mode.into(), threads).map_err(|e| Failure::from(e).context("--threads"))?;
+    Ok(execution.with_split(args.split).with_auto_split(machine_auto_split()))
 }
 
 /// Runs the command.
@@ -37,6 +40,11 @@ pub fn simulate(
     dump_path: Option<&Path>,
 ) -> Result<(), Failure> {
     let (mode, threads) = (execution.mode(), execution.threads_used());
+    let split = match (mode, execution.split()) {
+        (ExecutionMode::Sequential, _) => String::new(),
+        (_, SplitPolicy::Auto) => format!(", split auto ({})", execution.auto_split().origin()),
+        (_, split) => format!(", split {split}"),
+    };
     let mut sim = Simulation::from_scenario(scenario, execution)?;
     let bodies_start = sim.body_count();
 
@@ -65,7 +73,7 @@ pub fn simulate(
         .map(|&stage| format!("{} {:.3}", stage.name(), timings.stage(stage).mean_ns / 1e6))
         .collect();
     println!(
-        "{}: {} updates of {} bodies ({} at the end, {} shatters) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{}",
+        "{}: {} updates of {} bodies ({} at the end, {} shatters) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}",
         scenario.name,
         updates,
         bodies_start,

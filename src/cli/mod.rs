@@ -3,6 +3,7 @@
 
 mod args;
 mod bench;
+mod calibrate;
 mod entry;
 mod failure;
 mod headless;

@@ -7,7 +7,7 @@ use super::headless::execution;
 use super::{ExecutionArgs, Failure};
 use crate::components::BodyId;
 use crate::scenario::Scenario;
-use crate::systems::{Aabb, SweepScratch, id_pairs, sweep_and_prune};
+use crate::systems::{Aabb, SortedBoxes, id_pairs, sweep_and_prune};
 
 /// Prints `a,b` and then one line per overlapping pair, lower id first,
 /// sorted.
@@ -15,7 +15,7 @@ pub fn pairs(path: &Path, args: &ExecutionArgs) -> Result<(), Failure> {
     let bodies = Scenario::load(path)?.bodies()?;
     let boxes: Vec<Aabb> = bodies.iter().map(|b| Aabb::new(b.position, b.half_extents)).collect();
     let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();
-    let found = sweep_and_prune(boxes.as_slice(), &execution(args)?, &mut SweepScratch::default());
+    let found = sweep_and_prune(boxes.as_slice(), &execution(args)?, &mut SortedBoxes::default());
     let mut out = BufWriter::new(std::io::stdout().lock());
     let written = (|| {
         writeln!(out, "a,b")?;

@@ -13,10 +13,16 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
     use crate::execution::{Execution, ExecutionMode};
     use crate::scenario::Scenario;
 
-    if args.frames.is_some() || args.screenshot.is_some() || args.render.is_some() {
+    if args.frames.is_some()
+        || args.screenshot.is_some()
+        || args.render.is_some()
+        || args.vsync.is_some()
+        || args.ups.is_some()
+        || args.frame_report.is_some()
+    {
         return Err(Failure::input(
             "this kessler was built without the window (cargo feature `gui`); \
-             --frames, --screenshot and --render need it",
+             --frames, --screenshot, --render, --vsync, --ups and --frame-report need it",
         ));
     }
     eprintln!(
@@ -29,27 +35,31 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
             .with_generated(count)
             .map_err(|e| Failure::from(e).context("--bodies"))?;
     }
-    let execution = Execution::all_cores(ExecutionMode::default())?;
+    let mode = args.mode.map_or(ExecutionMode::default(), Into::into);
+    let execution = Execution::all_cores(mode)?
+        .with_split(args.split.unwrap_or_default())
+        .with_auto_split(crate::calibration::machine_auto_split());
     super::headless::simulate(&scenario, execution, RUN_UPDATES, None)
 }
 
 /// Runs the command: opens the window.
 #[cfg(feature = "gui")]
 pub fn run(args: RunArgs) -> Result<(), Failure> {
-    use super::RenderArg;
-    use crate::ui::{RenderMethod, WindowOptions};
+    use crate::ui::WindowOptions;
 
     let options = WindowOptions {
         scenario: args.scenario,
         frames: args.frames,
         screenshot: args.screenshot,
         settings: args.settings,
-        render: args.render.map(|r| match r {
-            RenderArg::Instanced => RenderMethod::Instanced,
-            RenderArg::Meshes => RenderMethod::Meshes,
-        }),
+        render: args.render.map(Into::into),
         bodies: args.bodies,
         paused: args.paused,
+        vsync: args.vsync.map(Into::into),
+        mode: args.mode.map(Into::into),
+        split: args.split,
+        ups: args.ups,
+        frame_report: args.frame_report,
     };
     crate::ui::run(options).map_err(Failure::from)
 }

@@ -3,10 +3,17 @@
 //!
 //! Every stage writes its logic once, as a *kernel*: a plain function over a
 //! [`Split`] input (slices, index ranges, or tuples of a table's columns).
-//! [`Execution`] calls that kernel either once on everything (sequential, or
-//! too little work to share) or on contiguous chunks from a pool of exactly
-//! `threads` worker threads, and hands the chunks' results back in input
-//! order. There is no second, parallel copy of any algorithm.
+//! [`Execution`] calls that kernel either once on everything or on
+//! contiguous chunks from a pool of exactly `threads` worker threads, and
+//! hands the chunks' results back in input order. There is no second,
+//! parallel copy of any algorithm.
+//!
+//! Which of the two happens is decided per stage and update by the
+//! [`SplitPolicy`] (`policy.rs`): never in sequential mode; in parallel
+//! mode at every body count (`Always`, the thesis's behaviour), from a
+//! given count (`Above(N)`), or from the count a calibration of this
+//! machine found for that stage (`Auto`). A stage asks once,
+//! [`Execution::for_stage`], and runs all its steps the way the answer says.
 //!
 //! # The rules a kernel follows to stay bit-identical
 //!
@@ -25,10 +32,9 @@
 //!    around results.
 //! 4. **Structural changes stay serial.** Spawning, despawning and handing
 //!    out ids happen on one thread in a fixed order (e.g. pair order).
-//! 5. **Grains are hints.** A kernel gets chunks of at least its `grain`
-//!    items and runs whole below two grains. Results must not depend on the
-//!    grain: tests run every kernel with one-item chunks
-//!    ([`Execution::fine_grained`]).
+//! 5. **Any policy, any chunk size.** Results must not depend on where
+//!    the work is cut or whether it is cut: tests run every kernel with
+//!    one-item chunks ([`Execution::fine_grained`]) and whole.
 //!
 //! # How a parallel step runs
 //!
@@ -44,10 +50,12 @@
 mod claims;
 mod keep_warm;
 mod mode;
+mod policy;
 mod pool;
 mod split;
 
 pub use keep_warm::WARM_FOR;
 pub use mode::*;
+pub use policy::*;
 pub use pool::*;
 pub use split::*;

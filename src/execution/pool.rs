@@ -9,7 +9,7 @@ use bevy::prelude::*;
 
 use super::claims::{CHUNKS_PER_THREAD, Claims};
 use super::keep_warm::KeepWarm;
-use super::{ExecutionMode, Split};
+use super::{AutoSplit, ExecutionMode, Split, SplitPolicy};
 
 /// Most worker threads a pool may have.
 pub const MAX_THREADS: usize = 256;
@@ -24,6 +24,10 @@ pub fn available_threads() -> usize {
 pub struct Execution {
     mode: ExecutionMode,
     pool: Arc<rayon::ThreadPool>,
+    /// From which body count a stage splits its work.
+    split: SplitPolicy,
+    /// The per-stage counts of [`SplitPolicy::Auto`].
+    auto: Arc<AutoSplit>,
     /// Ignore the callers' grains and split all work as finely as possible.
     fine_grained: bool,
     /// Set whenever work was split since the last [`install`](Self::install).
@@ -38,6 +42,7 @@ impl fmt::Debug for Execution {
         f.debug_struct("Execution")
             .field("mode", &self.mode)
             .field("threads", &self.threads())
+            .field("split", &self.split)
             .field("keep_warm", &self.warm.is_some())
             .finish()
     }
@@ -66,6 +71,8 @@ impl Execution {
         Ok(Self {
             mode,
             pool: Arc::new(build_pool(threads)?),
+            split: SplitPolicy::default(),
+            auto: Arc::default(),
             fine_grained: false,
             split_recently: Arc::new(AtomicBool::new(true)),
             warm: Some(Arc::default()),
@@ -77,12 +84,56 @@ impl Execution {
         Self::new(mode, available_threads())
     }
 
-    /// Splits every kernel, however small its input, into one-item-minimum
-    /// chunks in parallel mode: slow, but it puts every chunk boundary to
-    /// the test. For determinism tests.
+    /// Splits every kernel, however small its input, into one-item chunks
+    /// in parallel mode (the split policy becomes `Always`): slow, but it
+    /// puts every chunk boundary to the test. For determinism tests.
     pub fn fine_grained(mut self) -> Self {
         self.fine_grained = true;
+        self.split = SplitPolicy::Always;
         self
+    }
+
+    /// The same execution with split policy `split`.
+    pub fn with_split(mut self, split: SplitPolicy) -> Self {
+        self.set_split(split);
+        self
+    }
+
+    /// The same execution with `auto`'s counts for [`SplitPolicy::Auto`].
+    pub fn with_auto_split(mut self, auto: AutoSplit) -> Self {
+        self.auto = Arc::new(auto);
+        self
+    }
+
+    /// From which body count a stage splits its work.
+    pub fn split(&self) -> SplitPolicy {
+        self.split
+    }
+
+    /// Switches the split policy; takes effect at the next step.
+    pub fn set_split(&mut self, split: SplitPolicy) {
+        self.split = split;
+    }
+
+    /// The per-stage counts that [`SplitPolicy::Auto`] uses.
+    pub fn auto_split(&self) -> &AutoSplit {
+        &self.auto
+    }
+
+    /// Whether `stage` splits its work at `bodies` bodies: never in
+    /// sequential mode, else as the split policy says.
+    pub fn splits(&self, stage: &str, bodies: usize) -> bool {
+        self.mode == ExecutionMode::Parallel && (self.fine_grained || self.split.splits(stage, bodies, &self.auto))
+    }
+
+    /// How the stage named `stage` runs its kernels in a world of `bodies`
+    /// bodies: split into chunks or whole, as [`splits`](Self::splits)
+    /// decides once for all its steps.
+    pub fn for_stage(&self, stage: &str, bodies: usize) -> StageExecution<'_> {
+        StageExecution {
+            execution: self,
+            split: self.splits(stage, bodies),
+        }
     }
 
     /// Whether idle workers keep polling for a moment after each parallel
@@ -142,38 +193,72 @@ impl Execution {
         if use_pool { self.pool.install(f) } else { f() }
     }
 
-    /// Runs `kernel` over `data`: whole, on this thread, in sequential mode or
-    /// when `data` has fewer than two `grain`s of items; otherwise on
-    /// contiguous chunks of at least `grain` items in the worker pool.
-    pub fn for_chunks<S, K>(&self, data: S, grain: usize, kernel: K)
-    where
-        S: Split,
-        K: Fn(S) + Sync,
-    {
-        self.map_chunks(data, grain, kernel);
-    }
-
-    /// Like [`for_chunks`](Self::for_chunks), collecting each chunk's result
-    /// in input order (one element when run whole).
-    pub fn map_chunks<S, R, K>(&self, data: S, grain: usize, kernel: K) -> Vec<R>
+    /// Runs `kernel` on contiguous chunks of `data` on the pool's threads
+    /// (about [`CHUNKS_PER_THREAD`] per thread, one item each when fine
+    /// grained) and returns their results in input order.
+    fn map_split<S, R, K>(&self, data: S, kernel: K) -> Vec<R>
     where
         S: Split,
         R: Send,
         K: Fn(S) -> R + Sync,
     {
         let len = data.len();
-        let grain = if self.fine_grained { 1 } else { grain.max(1) };
-        if self.mode == ExecutionMode::Sequential || len < 2 * grain {
+        if len < 2 {
             return vec![kernel(data)];
         }
         self.split_recently.store(true, Ordering::Relaxed);
-        let chunk = grain.max(len.div_ceil(self.threads() * CHUNKS_PER_THREAD));
-        let claims = Claims::new(data, chunk);
+        let chunk = if self.fine_grained {
+            1
+        } else {
+            len.div_ceil(self.threads() * CHUNKS_PER_THREAD)
+        };
+        let claims = Claims::new(data, chunk, self.threads());
         self.pool.install(|| claims.run(&kernel));
         if let Some(warm) = &self.warm {
             warm.after_step(&self.pool);
         }
         claims.into_results()
+    }
+}
+
+/// One stage's execution at one body count ([`Execution::for_stage`]):
+/// every step of the stage runs whole on this thread, or split into
+/// contiguous chunks on the worker pool.
+#[derive(Clone, Copy, Debug)]
+pub struct StageExecution<'a> {
+    execution: &'a Execution,
+    split: bool,
+}
+
+impl StageExecution<'_> {
+    /// Whether this stage's steps split their work.
+    pub fn splits(&self) -> bool {
+        self.split
+    }
+
+    /// Runs `kernel` over `data`: whole, on this thread, unless the stage
+    /// splits; then on contiguous chunks in the worker pool.
+    pub fn for_chunks<S, K>(&self, data: S, kernel: K)
+    where
+        S: Split,
+        K: Fn(S) + Sync,
+    {
+        self.map_chunks(data, kernel);
+    }
+
+    /// Like [`for_chunks`](Self::for_chunks), collecting each chunk's result
+    /// in input order (one element when run whole).
+    pub fn map_chunks<S, R, K>(&self, data: S, kernel: K) -> Vec<R>
+    where
+        S: Split,
+        R: Send,
+        K: Fn(S) -> R + Sync,
+    {
+        if self.split {
+            self.execution.map_split(data, kernel)
+        } else {
+            vec![kernel(data)]
+        }
     }
 }
 
@@ -194,29 +279,68 @@ mod tests {
 
     use super::*;
 
+    /// `exec` split as `Always` would: every step in chunks.
+    fn always(exec: &Execution) -> StageExecution<'_> {
+        exec.for_stage("test", 0)
+    }
+
+    fn parallel(threads: usize) -> Execution {
+        Execution::new(ExecutionMode::Parallel, threads)
+            .unwrap()
+            .with_split(SplitPolicy::Always)
+    }
+
     #[test]
     fn parallel_map_keeps_input_order_and_covers_every_item() {
-        let exec = Execution::new(ExecutionMode::Parallel, 3).unwrap();
-        let chunks = exec.map_chunks(0..10_007, 100, |r: Range<usize>| r);
-        assert!(chunks.len() > 1, "work of 100 grains must be split");
+        let exec = parallel(3);
+        let chunks = always(&exec).map_chunks(0..10_007, |r: Range<usize>| r);
+        assert_eq!(chunks.len(), 3 * CHUNKS_PER_THREAD, "about four chunks per thread");
         let flat: Vec<usize> = chunks.into_iter().flatten().collect();
         assert_eq!(flat, (0..10_007).collect::<Vec<_>>());
     }
 
     #[test]
-    fn small_work_and_sequential_mode_run_whole() {
-        let par = Execution::new(ExecutionMode::Parallel, 2).unwrap();
-        assert_eq!(par.map_chunks(0..199, 100, |r: Range<usize>| r), vec![0..199]);
-        let seq = Execution::new(ExecutionMode::Sequential, 2).unwrap();
-        assert_eq!(seq.map_chunks(0..1_000_000, 1, |r: Range<usize>| r), vec![0..1_000_000]);
+    fn the_policy_decides_per_stage_and_sequential_mode_never_splits() {
+        let exec = parallel(2).with_split(SplitPolicy::Above(1000));
+        assert_eq!(
+            exec.for_stage("s", 999).map_chunks(0..5000, |r: Range<usize>| r),
+            vec![0..5000]
+        );
+        assert!(exec.for_stage("s", 1000).map_chunks(0..5000, |r: Range<usize>| r).len() > 1);
+        let auto = AutoSplit::calibrated(vec![("gravity".into(), 10)], "test");
+        let exec = parallel(2).with_split(SplitPolicy::Auto).with_auto_split(auto);
+        assert!(exec.for_stage("gravity", 10).splits());
+        assert!(
+            !exec.for_stage("sweep", 10).splits(),
+            "uncalibrated stages use the fallback"
+        );
+        let seq = Execution::new(ExecutionMode::Sequential, 2)
+            .unwrap()
+            .with_split(SplitPolicy::Always);
+        assert_eq!(
+            seq.for_stage("s", 1 << 20)
+                .map_chunks(0..1_000_000, |r: Range<usize>| r),
+            vec![0..1_000_000]
+        );
+    }
+
+    #[test]
+    fn always_splits_even_tiny_work_and_one_item_runs_whole() {
+        let exec = parallel(2);
+        assert_eq!(
+            always(&exec).map_chunks(0..3, |r: Range<usize>| r),
+            vec![0..1, 1..2, 2..3]
+        );
+        assert_eq!(always(&exec).map_chunks(0..1, |r: Range<usize>| r), vec![0..1]);
+        assert_eq!(always(&exec).map_chunks(0..0, |r: Range<usize>| r), vec![0..0]);
     }
 
     #[test]
     fn tuples_of_slices_split_in_lockstep() {
-        let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        let exec = parallel(2);
         let a: Vec<u32> = (0..5000).collect();
         let mut b = vec![0u32; 5000];
-        exec.for_chunks((a.as_slice(), b.as_mut_slice()), 64, |(a, b): (&[u32], &mut [u32])| {
+        always(&exec).for_chunks((a.as_slice(), b.as_mut_slice()), |(a, b): (&[u32], &mut [u32])| {
             for (x, y) in a.iter().zip(b) {
                 *y = x * 2;
             }
@@ -226,10 +350,10 @@ mod tests {
 
     #[test]
     fn uneven_chunks_keep_input_order() {
-        let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        let exec = parallel(2);
         // Eight chunks of 8 (four per thread); early chunks are slow, so the
         // other thread claims the later ones.
-        let chunks = exec.map_chunks(0..64, 8, |r: Range<usize>| {
+        let chunks = always(&exec).map_chunks(0..64, |r: Range<usize>| {
             std::thread::sleep(std::time::Duration::from_micros(300 * (8 - r.start as u64 / 8)));
             r.start
         });
@@ -238,28 +362,27 @@ mod tests {
 
     #[test]
     fn a_panicking_chunk_panics_the_step_instead_of_hanging_it() {
-        let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        let exec = parallel(2);
         for bad in [0, 7] {
             let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                exec.for_chunks(0..800, 100, |r: Range<usize>| {
-                    assert!(r.start / 100 != bad, "chunk {bad}")
-                })
+                always(&exec).for_chunks(0..800, |r: Range<usize>| assert!(r.start / 100 != bad, "chunk {bad}"))
             }));
             assert!(outcome.is_err(), "chunk {bad}'s panic was lost");
         }
         // The pool still works afterwards.
         assert_eq!(
-            exec.map_chunks(0..400, 100, |r: Range<usize>| r.end - r.start),
-            vec![100; 4]
+            always(&exec).map_chunks(0..400, |r: Range<usize>| r.end - r.start),
+            vec![50; 8]
         );
     }
 
     #[test]
     fn without_keep_warm_the_results_are_the_same() {
-        let warm = Execution::new(ExecutionMode::Parallel, 2).unwrap();
+        let warm = parallel(2);
         let cold = warm.clone().with_keep_warm(false);
-        let sums =
-            |e: &Execution| -> Vec<u64> { e.map_chunks(0..100_000, 1000, |r: Range<usize>| r.map(|i| i as u64).sum()) };
+        let sums = |e: &Execution| -> Vec<u64> {
+            always(e).map_chunks(0..100_000, |r: Range<usize>| r.map(|i| i as u64).sum())
+        };
         assert_eq!(sums(&warm), sums(&cold));
     }
 

@@ -2,10 +2,12 @@
 //! settings, screenshots — without ever leaving half a file, and checking
 //! before any work that it can be written.
 
+mod appended;
 mod atomic;
 mod check;
 mod png_image;
 
+pub use appended::*;
 pub use atomic::*;
 pub use check::*;
 pub use png_image::*;

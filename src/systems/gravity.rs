@@ -35,9 +35,6 @@ pub struct GravitySource {
 /// The columns the gravity kernel reads and writes.
 pub type GravityColumns<'a> = (&'a [BodyId], &'a [Position], &'a [GravityRole], &'a mut [Velocity]);
 
-/// Bodies per parallel chunk for one source; divided by the source count.
-const GRAIN_WORK: usize = 8_192;
-
 /// Accelerates adopters towards the sources in [`SimulationSystems::Gravity`].
 pub struct GravityPlugin;
 
@@ -134,13 +131,11 @@ fn apply_gravity(
     let all = all.contiguous_iter().expect("body components are table-stored");
     collect_sources(all, f64::from(settings.gravitational_constant), &mut sources);
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
-    let grain = (GRAIN_WORK / sources.len().max(1)).max(64);
+    let stage = execution.for_stage(SimulationSystems::Gravity.name(), bodies.iter().len());
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     for (ids, positions, roles, mut velocities) in tables {
         let columns = (ids, positions, roles, velocities.bypass_change_detection());
-        execution.for_chunks(columns, grain, |columns| {
-            gravity_kernel(columns, &sources, softening2, dt)
-        });
+        stage.for_chunks(columns, |columns| gravity_kernel(columns, &sources, softening2, dt));
     }
     timings.record(SimulationSystems::Gravity, start.elapsed());
 }

@@ -17,9 +17,6 @@ use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
 /// The columns the integration kernel reads and writes.
 pub type IntegrateColumns<'a> = (&'a [Velocity], &'a mut [Position], &'a mut [PreviousPosition]);
 
-/// Bodies per parallel chunk.
-const GRAIN: usize = 8_192;
-
 /// Moves every body in [`SimulationSystems::Integrate`].
 pub struct IntegratePlugin;
 
@@ -47,6 +44,7 @@ fn integrate(
 ) {
     let start = Instant::now();
     let dt = settings.time_step;
+    let stage = execution.for_stage(SimulationSystems::Integrate.name(), bodies.iter().len());
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     for (velocities, mut positions, mut previous) in tables {
         let columns = (
@@ -54,7 +52,7 @@ fn integrate(
             positions.bypass_change_detection(),
             previous.bypass_change_detection(),
         );
-        execution.for_chunks(columns, GRAIN, |columns| integrate_kernel(columns, dt));
+        stage.for_chunks(columns, |columns| integrate_kernel(columns, dt));
     }
     timings.record(SimulationSystems::Integrate, start.elapsed());
 }

@@ -2,7 +2,7 @@
 
 use bevy::app::{PluginGroup, PluginGroupBuilder};
 
-use super::{BroadPhasePlugin, GravityPlugin, IntegratePlugin, ResponsePlugin, SchedulePlugin, ShatterPlugin};
+use super::{GravityPlugin, IntegratePlugin, ResponsePlugin, SchedulePlugin, ShatterPlugin, SortPlugin, SweepPlugin};
 
 /// Every simulation stage and the schedule they run in. Needs an
 /// [`Execution`](crate::execution::Execution) resource.
@@ -14,7 +14,8 @@ impl PluginGroup for SimulationPlugins {
             .add(SchedulePlugin)
             .add(GravityPlugin)
             .add(IntegratePlugin)
-            .add(BroadPhasePlugin)
+            .add(SortPlugin)
+            .add(SweepPlugin)
             .add(ResponsePlugin)
             .add(ShatterPlugin)
     }

@@ -21,9 +21,6 @@ use crate::execution::Execution;
 use crate::resources::SimulationSettings;
 use crate::systems::{OverlappingPairs, Pair, SimulationSystems, SimulationUpdate, StageTimings};
 
-/// Matched pairs per parallel chunk.
-const GRAIN: usize = 512;
-
 /// Two bodies to shatter, in pair order, for the shatter stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShatterPair {
@@ -184,8 +181,9 @@ fn respond_to_pairs(
         f32::INFINITY
     };
     let dt = settings.time_step;
-    let outcomes: Vec<Outcome> = execution
-        .map_chunks(matched.as_slice(), GRAIN, |chunk: &[Matched]| {
+    let stage = execution.for_stage(SimulationSystems::Response.name(), bodies.iter().len());
+    let outcomes: Vec<Outcome> = stage
+        .map_chunks(matched.as_slice(), |chunk: &[Matched]| {
             chunk
                 .iter()
                 .map(|(_, [a, b], _)| respond(a, b, threshold, dt))

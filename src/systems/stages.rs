@@ -16,8 +16,11 @@ pub enum SimulationSystems {
     Gravity,
     /// The drift `p += v·dt` of the semi-implicit Euler step.
     Integrate,
-    /// Sweep and prune: the overlapping pairs.
-    BroadPhase,
+    /// The broad phase's sort: boxes filed by grid cell, each cell ordered
+    /// on x.
+    Sort,
+    /// The broad phase's sweep: the overlapping pairs.
+    Sweep,
     /// Bounce and push-back of colliding pairs.
     Response,
     /// Removal of shattered pairs and spawning of their fragments.
@@ -42,7 +45,7 @@ pub struct StageInfo {
 }
 
 /// Every stage, in update order.
-pub const STAGES: [StageInfo; 5] = [
+pub const STAGES: [StageInfo; 6] = [
     StageInfo {
         stage: SimulationSystems::Gravity,
         name: "gravity",
@@ -58,11 +61,18 @@ pub const STAGES: [StageInfo; 5] = [
         columns: &["integrate"],
     },
     StageInfo {
-        stage: SimulationSystems::BroadPhase,
-        name: "broad_phase",
-        label: "broad phase",
-        color: [255, 190, 60],
-        columns: &["broad_phase"],
+        stage: SimulationSystems::Sort,
+        name: "sort",
+        label: "sort",
+        color: [255, 160, 40],
+        columns: &["broad_phase", "sort"],
+    },
+    StageInfo {
+        stage: SimulationSystems::Sweep,
+        name: "sweep",
+        label: "sweep",
+        color: [250, 220, 100],
+        columns: &["broad_phase", "sweep"],
     },
     StageInfo {
         stage: SimulationSystems::Response,

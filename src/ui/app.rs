@@ -11,10 +11,12 @@ use super::capture::{CapturePlugin, ScriptedRun};
 use super::celestials::CelestialsPlugin;
 use super::drive::DrivePlugin;
 use super::frame_stats::FrameStatsPlugin;
+use super::gpu_memory::GpuMemoryPlugin;
 use super::hud::HudPlugin;
 use super::instancing::InstancingPlugin;
 use super::meshes::MeshesPlugin;
 use super::panel::PanelPlugin;
+use super::present_mode::{PresentModePlugin, present_mode};
 use super::scene::{SandboxState, ScenePlugin};
 use super::selection::SelectionPlugin;
 use super::sets::SandboxSystems;
@@ -39,7 +41,11 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         settings,
         scenario,
     } = Start::from_options(&options)?;
-    let execution = Execution::new(settings.mode, settings.threads)?.with_keep_warm(KEEP_WORKERS_WARM);
+    let execution = Execution::new(settings.mode, settings.threads)?
+        .with_keep_warm(KEEP_WORKERS_WARM)
+        .with_split(settings.split)
+        .with_auto_split(crate::calibration::machine_auto_split());
+    let present_mode = present_mode(settings.vsync);
     let mut state = SandboxState::new(scenario, &settings);
     state.paused = options.paused;
 
@@ -48,6 +54,7 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         primary_window: Some(Window {
             title: "Kessler".into(),
             resolution: WindowResolution::new(1280, 800),
+            present_mode,
             ..default()
         }),
         ..default()
@@ -77,6 +84,7 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         CelestialsPlugin,
         InstancingPlugin,
         MeshesPlugin,
+        PresentModePlugin,
         CameraPlugin,
         SelectionPlugin,
         PanelPlugin,
@@ -87,7 +95,9 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         SettingsFilePlugin,
     ));
     if let Some(frames) = options.frames {
-        app.add_plugins(CapturePlugin(ScriptedRun::new(frames, options.screenshot.clone())));
+        let mut run = ScriptedRun::new(frames, options.screenshot.clone());
+        run.frame_report.clone_from(&options.frame_report);
+        app.add_plugins((GpuMemoryPlugin, CapturePlugin(run)));
     }
     match app.run() {
         AppExit::Success => Ok(()),

@@ -1,6 +1,9 @@
 //! Colors of the body cubes, and which bodies are drawn as spheres instead.
 
-use crate::components::{GravityRole, Interacts};
+use bevy::prelude::*;
+
+use crate::components::{BodyId, GravityRole, Interacts};
+use crate::systems::OverlappingPairs;
 
 /// What a cube's color shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,6 +41,58 @@ pub fn body_color(look: BodyLook, effects: bool) -> [u8; 4] {
     };
     let byte = |c: f32| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
     [byte(r), byte(g), byte(b), 255]
+}
+
+/// What every drawing method needs to color the cubes of one frame: which
+/// bodies collide now, and the mean cube speed of the previous frame (the
+/// color ramp's scale).
+#[derive(Debug, Default)]
+pub struct LookTracker {
+    /// Indexed by entity index: in an overlapping pair this update.
+    colliding: Vec<bool>,
+    mean_speed: f32,
+    speed_sum: f64,
+    counted: u64,
+}
+
+impl LookTracker {
+    /// Starts a frame: marks the bodies of this update's overlapping pairs.
+    pub fn start(&mut self, pairs: &OverlappingPairs) {
+        self.colliding.clear();
+        for pair in &pairs.0 {
+            for entity in [pair.entity_a, pair.entity_b] {
+                let i = entity.index_u32() as usize;
+                if self.colliding.len() <= i {
+                    self.colliding.resize(i + 1, false);
+                }
+                self.colliding[i] = true;
+            }
+        }
+        (self.speed_sum, self.counted) = (0.0, 0);
+    }
+
+    /// The look of one cube (counted towards this frame's mean speed).
+    pub fn look(&mut self, entity: Entity, id: BodyId, velocity: Vec3, first_fragment_id: u64) -> BodyLook {
+        let speed = velocity.length();
+        self.speed_sum += f64::from(speed);
+        self.counted += 1;
+        BodyLook {
+            relative_speed: speed / self.mean_speed.max(1e-6),
+            fragment: id.0 >= first_fragment_id,
+            colliding: self
+                .colliding
+                .get(entity.index_u32() as usize)
+                .copied()
+                .unwrap_or(false),
+        }
+    }
+
+    /// Ends a frame: its mean speed scales the next frame's ramp.
+    pub fn finish(&mut self) {
+        if self.counted > 0 {
+            self.mean_speed = (self.speed_sum / self.counted as f64) as f32;
+        }
+    }
 }
 
 /// Bodies drawn as spheres rather than cubes: sources that do not collide

@@ -10,13 +10,16 @@ use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 
 use super::clock::UpdateClock;
 use super::frame_stats::{FrameStats, summarize};
+use super::gpu_memory::GpuMemory;
 use super::instance_slot::InstancedBodies;
-use super::settings::{RenderMethod, SandboxSettings};
+use super::settings::SandboxSettings;
+use crate::bench::FrameReport;
 use crate::components::BodyId;
+use crate::draw_method::DrawMethod;
 use crate::output::{write_atomically, write_png};
 
 /// Frames skipped before frame times count (pipelines compile, buffers fill).
-pub const WARMUP_FRAMES: usize = 10;
+pub const WARMUP_FRAMES: usize = crate::bench::WINDOW_WARMUP_FRAMES as usize;
 /// Longest a scripted run waits past its frames for the bodies to be drawn
 /// (shader compilation under software rendering is slow).
 pub const READY_TIMEOUT: Duration = Duration::from_secs(120);
@@ -32,6 +35,8 @@ pub struct ScriptedRun {
     pub started: Instant,
     /// Screenshot requested (waiting for it to be written).
     pub capturing: bool,
+    /// Where to write what the run measured (a new file), if anywhere.
+    pub frame_report: Option<PathBuf>,
 }
 
 impl ScriptedRun {
@@ -42,6 +47,7 @@ impl ScriptedRun {
             screenshot,
             started: Instant::now(),
             capturing: false,
+            frame_report: None,
         }
     }
 }
@@ -61,7 +67,7 @@ impl Plugin for CapturePlugin {
 /// Whether the bodies have been drawn at least once (or are not drawn by the
 /// instanced pipeline at all).
 fn bodies_ready(settings: &SandboxSettings, instanced: &Query<&InstancedBodies>) -> bool {
-    if !settings.render_bodies || settings.render_method != RenderMethod::Instanced {
+    if !settings.render_bodies || settings.render_method != DrawMethod::Instanced {
         return true;
     }
     instanced.iter().all(|InstancedBodies(slot)| slot.draws() > 0)
@@ -122,12 +128,15 @@ fn scripted_run(
     }
 }
 
-/// Prints the frame-time summary of a scripted run when the app exits.
+/// Prints the frame-time summary of a scripted run when the app exits, and
+/// writes its frame report if asked.
 fn report_frames(
     mut exits: MessageReader<AppExit>,
     stats: Res<FrameStats>,
     clock: Res<UpdateClock>,
     settings: Res<SandboxSettings>,
+    run: Res<ScriptedRun>,
+    gpu: Option<Res<GpuMemory>>,
     bodies: Query<(), With<BodyId>>,
 ) {
     if exits.read().next().is_none() {
@@ -145,7 +154,25 @@ fn report_frames(
     } else {
         0.0
     };
-    match summarize(&stats.all, WARMUP_FRAMES) {
+    let summary = summarize(&stats.all, WARMUP_FRAMES);
+    if let Some(path) = &run.frame_report {
+        let gpu = gpu.map(|g| g.reading()).unwrap_or_default();
+        let report = FrameReport {
+            bodies: bodies as u64,
+            frames: summary.as_ref().map_or(0, |s| s.frames as u64),
+            mean_ms: summary.as_ref().map_or(0.0, |s| s.mean_ms),
+            p95_ms: summary.as_ref().map_or(0.0, |s| s.p95_ms),
+            updates_per_second: ups,
+            peak_ram_bytes: peak_resident_bytes().unwrap_or(0),
+            gpu_bytes: gpu.bytes,
+            gpu_source: gpu.source,
+            adapter: gpu.adapter,
+        };
+        if let Err(e) = write_atomically(path, |w| w.write_all(report.to_text().as_bytes())) {
+            eprintln!("kessler: error: --frame-report {e}");
+        }
+    }
+    match summary {
         Some(s) => println!(
             "frames {} (after {WARMUP_FRAMES} warm-up), bodies {bodies}, render {method}: \
              mean {:.2} ms, median {:.2} ms, p95 {:.2} ms ({:.1} FPS); {} updates ({ups:.1} per second)",
@@ -161,4 +188,18 @@ fn report_frames(
             stats.all.len()
         ),
     }
+}
+
+/// Peak resident memory of this process (`VmHWM`), bytes; Linux only.
+fn peak_resident_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kib: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kib * 1024)
 }

@@ -43,6 +43,9 @@ fn apply_live_settings(
     if execution.mode() != settings.mode {
         execution.set_mode(settings.mode);
     }
+    if execution.split() != settings.split {
+        execution.set_split(settings.split);
+    }
     if execution.threads() != settings.threads
         && let Err(e) = execution.set_threads(settings.threads)
     {

@@ -61,7 +61,7 @@ impl Plugin for InstancedDrawPlugin {
 
 /// The GPU buffer of instances, reused from frame to frame.
 #[derive(Resource, Default)]
-struct BodyInstanceBuffer {
+pub struct BodyInstanceBuffer {
     buffer: Option<Buffer>,
     /// Instances the buffer can hold.
     capacity: usize,
@@ -70,6 +70,13 @@ struct BodyInstanceBuffer {
     /// Generation of the data in the buffer.
     uploaded: Option<u64>,
     slot: Option<Arc<InstanceSlot>>,
+}
+
+impl BodyInstanceBuffer {
+    /// Bytes of GPU memory the buffer holds.
+    pub fn bytes(&self) -> u64 {
+        self.buffer.as_ref().map_or(0, |b| b.size())
+    }
 }
 
 fn prepare_body_buffer(

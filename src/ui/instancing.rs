@@ -15,13 +15,14 @@ use bevy::camera::visibility::NoFrustumCulling;
 use bevy::prelude::*;
 use bevy::render::extract_component::ExtractComponentPlugin;
 
-use super::body_colors::{BodyLook, body_color, is_celestial};
+use super::body_colors::{LookTracker, body_color, is_celestial};
 use super::clock::UpdateClock;
 use super::instance_slot::{InstanceData, InstancedBodies};
 use super::instanced_draw::InstancedDrawPlugin;
 use super::scene::SandboxState;
-use super::settings::{RenderMethod, SandboxSettings};
+use super::settings::SandboxSettings;
 use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position, Velocity};
+use crate::draw_method::DrawMethod;
 use crate::systems::OverlappingPairs;
 
 /// Draws the bodies as instanced cubes when that method is chosen.
@@ -53,35 +54,9 @@ fn spawn_instanced_bodies(mut commands: Commands, mut meshes: ResMut<Assets<Mesh
 #[derive(Default)]
 struct GatherScratch {
     staging: Vec<InstanceData>,
-    /// Indexed by entity index: in an overlapping pair this update.
-    colliding: Vec<bool>,
-    /// Mean cube speed of the previous frame (the color ramp's scale).
-    mean_speed: f32,
+    looks: LookTracker,
     /// (updates run, scene generation) of the last publish.
     published: Option<(u64, u64)>,
-}
-
-impl GatherScratch {
-    /// Marks the bodies of this update's overlapping pairs.
-    fn mark_colliding(&mut self, pairs: &OverlappingPairs) {
-        self.colliding.clear();
-        for pair in &pairs.0 {
-            for entity in [pair.entity_a, pair.entity_b] {
-                let i = entity.index_u32() as usize;
-                if self.colliding.len() <= i {
-                    self.colliding.resize(i + 1, false);
-                }
-                self.colliding[i] = true;
-            }
-        }
-    }
-
-    fn is_colliding(&self, entity: Entity) -> bool {
-        self.colliding
-            .get(entity.index_u32() as usize)
-            .copied()
-            .unwrap_or(false)
-    }
 }
 
 /// The components a cube's instance is made of.
@@ -122,31 +97,21 @@ fn gather_instances(
     scratch.published = Some(now);
     let mut staging = std::mem::take(&mut scratch.staging);
     staging.clear();
-    if settings.render_bodies && settings.render_method == RenderMethod::Instanced {
-        scratch.mark_colliding(&pairs);
-        let reference = scratch.mean_speed.max(1e-6);
-        let (mut speed_sum, mut counted) = (0.0f64, 0u64);
+    if settings.render_bodies && settings.render_method == DrawMethod::Instanced {
+        let looks = &mut scratch.looks;
+        looks.start(&pairs);
         let cubes = bodies
             .iter()
             .filter(|(.., role, interacts)| !is_celestial(**role, **interacts));
         staging.extend(cubes.map(|(entity, id, position, half, velocity, ..)| {
-            let speed = velocity.0.length();
-            speed_sum += f64::from(speed);
-            counted += 1;
-            let look = BodyLook {
-                relative_speed: speed / reference,
-                fragment: id.0 >= state.first_fragment_id,
-                colliding: scratch.is_colliding(entity),
-            };
+            let look = looks.look(entity, *id, velocity.0, state.first_fragment_id);
             InstanceData {
                 center: position.0.to_array(),
                 half_extents: half.0.to_array(),
                 color: body_color(look, settings.visual_effects),
             }
         }));
-        if counted > 0 {
-            scratch.mean_speed = (speed_sum / counted as f64) as f32;
-        }
+        looks.finish();
     }
     slot.publish(&mut staging);
     scratch.staging = staging;

@@ -9,9 +9,10 @@ use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use super::scene::SandboxState;
 use super::selection::{Selection, selected_info};
 use super::sets::SandboxSystems;
-use super::settings::{CameraMode, MAX_BODY_COUNT, RenderMethod, SPEED_RANGE, SandboxSettings, UPS_RANGE};
+use super::settings::{CameraMode, MAX_BODY_COUNT, SPEED_RANGE, SandboxSettings, UPS_RANGE};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
-use crate::execution::{ExecutionMode, available_threads};
+use crate::draw_method::DrawMethod;
+use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, available_threads};
 use crate::rng::Rng;
 
 /// Folder the scenario picker lists.
@@ -136,10 +137,40 @@ fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         ui.radio_value(&mut settings.mode, ExecutionMode::Parallel, "parallel");
     });
     let most = (available_threads() * 2).max(2);
+    let parallel = settings.mode == ExecutionMode::Parallel;
     ui.add_enabled(
-        settings.mode == ExecutionMode::Parallel,
+        parallel,
         egui::Slider::new(&mut settings.threads, 1..=most).text("threads"),
     );
+    ui.add_enabled_ui(parallel, |ui| split_policy(ui, &mut settings.split));
+}
+
+/// The split policy: auto (this machine's calibration), always, or from a
+/// body count.
+fn split_policy(ui: &mut egui::Ui, split: &mut SplitPolicy) {
+    ui.horizontal(|ui| {
+        ui.label("split")
+            .on_hover_text("from which body count a stage cuts its work into chunks for the threads");
+        ui.radio_value(split, SplitPolicy::Auto, "auto")
+            .on_hover_text("from the counts `kessler calibrate` measured on this machine");
+        ui.radio_value(split, SplitPolicy::Always, "always")
+            .on_hover_text("at every body count, as the thesis did");
+        let mut from = match *split {
+            SplitPolicy::Above(n) => n,
+            _ => FALLBACK_SPLIT_FROM,
+        };
+        let above = matches!(split, SplitPolicy::Above(_));
+        if ui.radio(above, "from").clicked() {
+            *split = SplitPolicy::Above(from);
+        }
+        let field = ui.add_enabled(
+            above,
+            egui::DragValue::new(&mut from).range(0..=MAX_BODY_COUNT).speed(100.0),
+        );
+        if field.changed() {
+            *split = SplitPolicy::Above(from);
+        }
+    });
 }
 
 fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
@@ -237,9 +268,12 @@ fn rendering(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     ui.checkbox(&mut settings.visual_effects, "visual effects (color by state)");
     ui.checkbox(&mut settings.show_collision_boxes, "planet collision box");
     ui.horizontal(|ui| {
-        ui.radio_value(&mut settings.render_method, RenderMethod::Instanced, "instanced");
-        ui.radio_value(&mut settings.render_method, RenderMethod::Meshes, "mesh per body");
+        for method in DrawMethod::ALL {
+            ui.radio_value(&mut settings.render_method, method, method.label());
+        }
     });
+    ui.checkbox(&mut settings.vsync, "vsync")
+        .on_hover_text("off: draw as fast as possible, as the thesis measured");
 }
 
 fn camera(

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::execution::{ExecutionMode, MAX_THREADS, available_threads};
+use crate::draw_method::DrawMethod;
+use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, available_threads};
 use crate::resources::SimulationSettings;
 
 /// Slowest and fastest target update rate, updates per second.
@@ -15,27 +16,6 @@ pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
 pub const SPEED_RANGE: std::ops::RangeInclusive<f32> = 0.05..=8.0;
 /// Most bodies the panel offers.
 pub const MAX_BODY_COUNT: u64 = 2_000_000;
-
-/// How the bodies are drawn.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum RenderMethod {
-    /// One instanced draw for all cubes (the fast way).
-    #[default]
-    Instanced,
-    /// One Bevy mesh entity per body, sharing one mesh and one material
-    /// (Bevy batches them, but every entity is extracted and culled).
-    Meshes,
-}
-
-impl RenderMethod {
-    /// Lower-case name, as on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Instanced => "instanced",
-            Self::Meshes => "meshes",
-        }
-    }
-}
 
 /// Which camera drives the view.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -77,6 +57,12 @@ pub struct SandboxSettings {
     pub mode: ExecutionMode,
     /// Worker threads in parallel mode (live).
     pub threads: usize,
+    /// From which body count stages split their work in parallel mode
+    /// (live).
+    pub split: SplitPolicy,
+    /// Wait for the display's refresh (live); off draws as fast as
+    /// possible, as the thesis measured.
+    pub vsync: bool,
     /// Draw the bodies at all (live).
     pub render_bodies: bool,
     /// Color cubes by state: colliding, fragment, speed (live).
@@ -106,7 +92,7 @@ pub struct SandboxSettings {
     /// Camera (live).
     pub camera: CameraMode,
     /// Drawing method (live).
-    pub render_method: RenderMethod,
+    pub render_method: DrawMethod,
     /// Show the planet's collision box (live).
     pub show_collision_boxes: bool,
 }
@@ -117,6 +103,8 @@ impl Default for SandboxSettings {
         Self {
             mode: ExecutionMode::Parallel,
             threads: available_threads(),
+            split: SplitPolicy::Auto,
+            vsync: true,
             render_bodies: true,
             visual_effects: true,
             collisions: true,
@@ -130,7 +118,7 @@ impl Default for SandboxSettings {
             shatter_threshold: physics.shatter_threshold,
             scenario: None,
             camera: CameraMode::Orbit,
-            render_method: RenderMethod::Instanced,
+            render_method: DrawMethod::Instanced,
             show_collision_boxes: false,
         }
     }

@@ -41,18 +41,7 @@ impl Plugin for SettingsFilePlugin {
     }
 }
 
-/// Where the settings live: `$XDG_CONFIG_HOME/kessler/settings.ron`, else
-/// `$HOME/.config/kessler/settings.ron`, else `kessler-settings.ron`.
-pub fn default_settings_path() -> PathBuf {
-    let base = std::env::var_os("XDG_CONFIG_HOME")
-        .filter(|v| !v.is_empty())
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")));
-    match base {
-        Some(base) => base.join("kessler").join("settings.ron"),
-        None => PathBuf::from("kessler-settings.ron"),
-    }
-}
+pub use crate::user_files::default_settings_path;
 
 /// Reads the settings at `path`: the settings to use, the settings as the
 /// file holds them, and a warning. Never fails: a missing file gives
@@ -148,8 +137,9 @@ fn save_settings_on_exit(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::execution::ExecutionMode;
-    use crate::ui::settings::{CameraMode, RenderMethod};
+    use crate::draw_method::DrawMethod;
+    use crate::execution::{ExecutionMode, SplitPolicy};
+    use crate::ui::settings::CameraMode;
 
     #[test]
     fn saved_settings_load_back_equal() {
@@ -163,8 +153,10 @@ mod tests {
             seed: 99,
             scenario: Some(PathBuf::from("scenarios/cascade.ron")),
             camera: CameraMode::Fly,
-            render_method: RenderMethod::Meshes,
+            render_method: DrawMethod::MeshPerBody,
             collision_response: false,
+            split: SplitPolicy::Above(5000),
+            vsync: false,
             ..SandboxSettings::default()
         };
         save_settings(&path, &settings).unwrap();
@@ -174,6 +166,21 @@ mod tests {
         assert_eq!(saved, Some(settings));
         let files = std::fs::read_dir(path.parent().unwrap()).unwrap().count();
         assert_eq!(files, 1, "temporary file left behind");
+    }
+
+    #[test]
+    fn older_files_keep_loading_with_their_drawing_method() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("settings.ron");
+        std::fs::write(&path, "(render_method: Meshes, threads: 2)").unwrap();
+        let (loaded, _, warning) = load_settings(&path);
+        assert!(warning.is_none(), "{warning:?}");
+        assert_eq!(loaded.render_method, DrawMethod::SharedMesh);
+        assert_eq!(
+            (loaded.split, loaded.vsync),
+            (SplitPolicy::Auto, true),
+            "defaults for new fields"
+        );
     }
 
     #[test]

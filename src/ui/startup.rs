@@ -52,6 +52,18 @@ impl Start {
         if let Some(render) = options.render {
             settings.render_method = render;
         }
+        if let Some(vsync) = options.vsync {
+            settings.vsync = vsync;
+        }
+        if let Some(mode) = options.mode {
+            settings.mode = mode;
+        }
+        if let Some(split) = options.split {
+            settings.split = split;
+        }
+        if let Some(ups) = options.ups {
+            settings.updates_per_second = ups;
+        }
         if let Some(count) = options.bodies {
             scenario.with_generated(count)?;
             settings.body_count = Some(count);
@@ -65,11 +77,15 @@ impl Start {
     }
 }
 
-/// A screenshot must be a new `.png` file in an existing folder.
+/// A screenshot must be a new `.png` file in an existing folder; a frame
+/// report a new file.
 fn check_screenshot(options: &WindowOptions) -> Result<(), WindowError> {
     if let Some(path) = &options.screenshot {
         check_extension("--screenshot", path, "png")?;
         check_new("--screenshot", path, "screenshots never overwrite, choose another name")?;
+    }
+    if let Some(path) = &options.frame_report {
+        check_new("--frame-report", path, "reports never overwrite, choose another name")?;
     }
     Ok(())
 }

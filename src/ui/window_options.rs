@@ -2,8 +2,9 @@
 
 use std::path::PathBuf;
 
-use super::settings::{MAX_BODY_COUNT, RenderMethod};
-use crate::execution::ExecutionError;
+use super::settings::MAX_BODY_COUNT;
+use crate::draw_method::DrawMethod;
+use crate::execution::{ExecutionError, ExecutionMode, SplitPolicy};
 use crate::input::InputError;
 use crate::output::OutputError;
 use crate::scenario::NoGenerators;
@@ -20,11 +21,22 @@ pub struct WindowOptions {
     /// Settings file to load and save instead of the default one.
     pub settings: Option<PathBuf>,
     /// Drawing method for this run (not saved).
-    pub render: Option<RenderMethod>,
+    pub render: Option<DrawMethod>,
     /// Generated bodies for this run (not saved).
     pub bodies: Option<u64>,
     /// Start with the simulation paused (to measure rendering alone).
     pub paused: bool,
+    /// Vsync on or off for this run (not saved).
+    pub vsync: Option<bool>,
+    /// Execution mode for this run (not saved).
+    pub mode: Option<ExecutionMode>,
+    /// Split policy for this run (not saved).
+    pub split: Option<SplitPolicy>,
+    /// Target updates per second for this run (not saved).
+    pub ups: Option<u32>,
+    /// Where a scripted run writes what it measured (`key=value` lines, a
+    /// new file), for benchmark `Render` runs.
+    pub frame_report: Option<PathBuf>,
 }
 
 /// Why the window could not run.

@@ -4,9 +4,15 @@ use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 
-/// The `kessler` binary.
+/// The `kessler` binary, blind to the user's own files (settings and split
+/// calibration), so that tests do not depend on them.
 pub fn kessler() -> Command {
-    Command::cargo_bin("kessler").unwrap()
+    let mut command = Command::cargo_bin("kessler").unwrap();
+    command.env(
+        "XDG_CONFIG_HOME",
+        std::env::temp_dir().join("kessler-tests-without-config"),
+    );
+    command
 }
 
 /// The files of an error corpus under `tests/`, sorted.

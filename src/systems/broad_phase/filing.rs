@@ -1,8 +1,7 @@
-//! The sort step of the broad phase: boxes filed by grid cell with a stable
-//! counting sort, chunk by chunk, into buffers kept between updates.
+//! The first kernel of the sort stage: a chunk of boxes filed by grid cell
+//! with a stable counting sort, into buffers kept between updates.
 
 use std::ops::Range;
-use std::sync::{Mutex, PoisonError};
 
 use bevy::prelude::*;
 
@@ -39,30 +38,6 @@ impl FiledChunk {
 
 /// Noted for a box that covers more than one cell.
 const SEVERAL_CELLS: u32 = u32::MAX;
-
-/// Buffers of the broad phase, kept between updates so that a million boxes
-/// do not fault in fresh pages every update: about 28 bytes per box (a box
-/// is filed once per cell it covers, mostly one).
-#[derive(Default)]
-pub struct SweepScratch {
-    spare: Mutex<Vec<FiledChunk>>,
-}
-
-impl SweepScratch {
-    /// A chunk's buffers, reused if any are spare.
-    pub(super) fn take(&self) -> FiledChunk {
-        self.spare
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .pop()
-            .unwrap_or_default()
-    }
-
-    /// Keeps the chunks' buffers for the next update.
-    pub(super) fn give_back(&self, chunks: Vec<FiledChunk>) {
-        self.spare.lock().unwrap_or_else(PoisonError::into_inner).extend(chunks);
-    }
-}
 
 /// Kernel: the bounds of the lower y–z corners of the boxes in `range`.
 pub fn corner_bounds<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>) -> (Vec2, Vec2) {
@@ -137,7 +112,7 @@ mod tests {
     fn boxes_are_filed_by_cell_in_input_order() {
         let grid = Grid::fit(Vec2::ZERO, Vec2::splat(4.0), BOXES_PER_CELL * 16);
         let boxes = [
-            Aabb::new(Vec3::new(0.0, 3.5, 3.5), Vec3::splat(0.1)),
+            Aabb::new(Vec3::new(0.5, 3.5, 3.5), Vec3::splat(0.1)),
             Aabb::new(Vec3::new(0.0, 0.5, 0.5), Vec3::splat(0.1)),
             Aabb::new(Vec3::new(0.0, 2.0, 0.5), Vec3::new(0.1, 1.0, 0.1)),
             Aabb::new(Vec3::new(0.0, 3.2, 3.6), Vec3::splat(0.1)),

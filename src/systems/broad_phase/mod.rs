@@ -1,37 +1,43 @@
-//! Stage 3, the broad phase: sweep and prune over a y–z grid — every pair of
-//! overlapping boxes (docs/design.md, "Broad phase").
+//! Stages 3 and 4, the broad phase: sweep and prune over a y–z grid — every
+//! pair of overlapping boxes (docs/design.md, "Broad phase").
 //!
 //! A single sweep along x degrades when many boxes share an x range (a dense
 //! cloud of a million cubes puts hundreds in every box's x range), so the
 //! sweep runs per cell of a grid over y and z:
 //!
-//! 1. **Sort** (`filing.rs`): the boxes are filed under every cell their y–z
-//!    extent covers by a counting sort that reads the bodies' columns in
-//!    order, twice (count, then place), and never gathers at random.
-//! 2. **Sweep** (`sweep.rs`): each cell's boxes are ordered by their lower x
-//!    bound (ties by input index, so the order is one fixed permutation);
-//!    each box scans forward while the next box starts before it ends on x,
+//! 1. **Sort** (`sort.rs`, `filing.rs`, `ordering.rs`; stage
+//!    [`SortPlugin`]): the boxes are filed under every cell their y–z extent
+//!    covers by a counting sort that reads the bodies' columns in order,
+//!    twice (count, then place), and never gathers at random; then each
+//!    cell's boxes are ordered by their lower x bound (ties by input order,
+//!    so the order is one fixed permutation), kept as 4-byte positions.
+//! 2. **Sweep** (`sweep.rs`; stage [`SweepPlugin`]): in each cell, each box
+//!    scans forward while the next box starts before it ends on x,
 //!    and confirms y and z. Touching counts as overlap. A pair found in
 //!    several cells is reported only by the cell holding the lower corner of
 //!    the pair's y–z intersection, so every pair comes out exactly once. A
 //!    big box (the planet) joins the cells it covers and scans only the
 //!    boxes inside its x-slab there, so the cost stays near-linear.
 //!
-//! In parallel, contiguous ranges of boxes are filed by their own chunk and
-//! contiguous ranges of cells are swept by their own chunk; a cell reads its
-//! boxes chunk after chunk, which is input order again, and the pairs are
-//! concatenated in cell order: the same pairs in the same order as one
-//! sequential pass.
+//! In parallel, contiguous ranges of boxes are filed by their own chunk,
+//! and contiguous ranges of cells are ordered, and then swept, by their own
+//! chunk; a cell reads its boxes chunk after chunk, which is input order
+//! again, and the pairs are concatenated in cell order: the same pairs in
+//! the same order as one sequential pass.
 
 mod aabb;
 mod boxes;
 mod filing;
 mod grid;
-mod plugin;
+mod ordering;
+mod sort;
+mod sort_stage;
 mod sweep;
+mod sweep_stage;
 
 pub use aabb::*;
 pub use boxes::*;
-pub use filing::SweepScratch;
-pub use plugin::*;
+pub use sort::*;
+pub use sort_stage::*;
 pub use sweep::*;
+pub use sweep_stage::*;

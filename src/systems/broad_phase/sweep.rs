@@ -1,60 +1,39 @@
-//! The sweep step of the broad phase, and [`sweep_and_prune`], which runs
-//! the whole broad phase on any [`BoxSource`].
+//! The kernel of the sweep stage, and [`sweep_and_prune`], which runs the
+//! whole broad phase (sort, then sweep) on any [`BoxSource`].
 
 use std::ops::Range;
 
-use bevy::prelude::*;
-
-use super::filing::{CellBox, FiledChunk, corner_bounds, file_by_cell};
-use super::grid::{BOXES_PER_CELL, Grid};
-use super::{BoxSource, SweepScratch};
+use super::BoxSource;
+use super::grid::Grid;
+use super::ordering::gather_cell;
+use super::sort::{SortedBoxes, sort_boxes};
 use crate::components::BodyId;
-use crate::execution::Execution;
-
-/// Boxes per parallel chunk of the filing. Below two grains a step runs
-/// whole: on these small inputs the dispatch and the cache traffic between
-/// cores cost more than they save.
-const GRAIN: usize = 8_192;
-
-/// Cells per parallel chunk of the sweep (about [`GRAIN`] boxes).
-const CELL_GRAIN: usize = GRAIN / BOXES_PER_CELL;
-
-/// Maps an f32 to a u32 with the same order (for all non-NaN values).
-#[inline]
-fn order_key(x: f32) -> u32 {
-    let bits = x.to_bits();
-    if bits & 0x8000_0000 != 0 {
-        !bits
-    } else {
-        bits | 0x8000_0000
-    }
-}
+use crate::execution::{Execution, StageExecution};
+use crate::systems::SimulationSystems;
 
 /// Kernel: the overlapping pairs `(i, j)` of input indices found in the
-/// `cells`, cell after cell, from the filed chunks (in input order).
-fn sweep_cells(filed: &[FiledChunk], grid: &Grid, cells: Range<usize>) -> Vec<(u32, u32)> {
+/// `cells`, cell after cell, visiting each cell's boxes in the sweep order
+/// the sort stage found: each box scans forward while the next starts
+/// before it ends on x.
+fn sweep_cells(sorted: &SortedBoxes, grid: &Grid, cells: Range<usize>) -> Vec<(u32, u32)> {
     let mut pairs = Vec::new();
-    let mut cell_boxes: Vec<CellBox> = Vec::new();
-    // Sort keys: the lower x bound's order key above the position in
-    // `cell_boxes`, which is input order, so ties keep input order.
-    let mut order: Vec<u64> = Vec::new();
+    let mut scratch = Vec::new();
+    let orders = sorted.orders();
+    // The part of the order holding the first cell; later cells follow.
+    let mut part = orders.partition_point(|o| o.cells.end <= cells.start);
     for cell in cells {
-        cell_boxes.clear();
-        for chunk in filed {
-            cell_boxes.extend_from_slice(chunk.in_cell(cell));
+        while orders[part].cells.end <= cell {
+            part += 1;
         }
-        order.clear();
-        order.extend(
-            cell_boxes
-                .iter()
-                .enumerate()
-                .map(|(k, b)| (u64::from(order_key(b.aabb.min.x)) << 32) | k as u64),
-        );
-        order.sort_unstable();
+        let order = orders[part].of(cell);
+        if order.len() < 2 {
+            continue;
+        }
+        let boxes = gather_cell(sorted.chunks(), cell, &mut scratch);
         for (k, &first) in order.iter().enumerate() {
-            let a = &cell_boxes[first as u32 as usize];
+            let a = &boxes[first as usize];
             for &second in &order[k + 1..] {
-                let b = &cell_boxes[second as u32 as usize];
+                let b = &boxes[second as usize];
                 if b.aabb.min.x > a.aabb.max.x {
                     break;
                 }
@@ -67,31 +46,37 @@ fn sweep_cells(filed: &[FiledChunk], grid: &Grid, cells: Range<usize>) -> Vec<(u
     pairs
 }
 
-/// Sweep and prune over `boxes` (any order): every overlapping pair of
-/// indices into `boxes` exactly once, as `(i, j)` with `boxes[i]` first in
-/// sweep order. The same pairs in the same order in both execution modes.
+/// The sweep stage's work: every overlapping pair of the sorted boxes
+/// exactly once, as input indices `(i, j)` with box `i` first in sweep
+/// order, cell after cell; ranges of cells are the chunks.
+pub fn sweep_sorted(sorted: &SortedBoxes, stage: StageExecution<'_>) -> Vec<(u32, u32)> {
+    let Some(grid) = sorted.grid() else {
+        return Vec::new();
+    };
+    stage
+        .map_chunks(0..grid.cell_count(), |cells| sweep_cells(sorted, grid, cells))
+        .concat()
+}
+
+/// Sweep and prune over `boxes` (any order): the sort stage's and the sweep
+/// stage's work, each split as `execution`'s policy says for that stage.
+/// Every overlapping pair of indices into `boxes` exactly once, as `(i, j)`
+/// with `boxes[i]` first in sweep order; the same pairs in the same order
+/// in both execution modes and under every split policy.
 pub fn sweep_and_prune<B: BoxSource + ?Sized>(
     boxes: &B,
     execution: &Execution,
-    scratch: &mut SweepScratch,
+    sorted: &mut SortedBoxes,
 ) -> Vec<(u32, u32)> {
-    let (lo, hi) = execution
-        .map_chunks(0..boxes.len(), GRAIN, |range| corner_bounds(boxes, range))
-        .into_iter()
-        .fold(
-            (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
-            |(lo, hi), (l, h)| (lo.min(l), hi.max(h)),
-        );
-    let grid = Grid::fit(lo, hi, boxes.len());
-    let scratch = &*scratch;
-    let filed = execution.map_chunks(0..boxes.len(), GRAIN, |range| {
-        file_by_cell(boxes, range, &grid, scratch.take())
-    });
-    let pairs = execution.map_chunks(0..grid.cell_count(), CELL_GRAIN, |cells| {
-        sweep_cells(&filed, &grid, cells)
-    });
-    scratch.give_back(filed);
-    pairs.concat()
+    sort_boxes(
+        boxes,
+        execution.for_stage(SimulationSystems::Sort.name(), boxes.len()),
+        sorted,
+    );
+    sweep_sorted(
+        sorted,
+        execution.for_stage(SimulationSystems::Sweep.name(), boxes.len()),
+    )
 }
 
 /// Index pairs as id pairs `(lower, higher)`, sorted.
@@ -110,7 +95,9 @@ pub fn id_pairs(index_pairs: &[(u32, u32)], ids: &[BodyId]) -> Vec<(BodyId, Body
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::execution::ExecutionMode;
+    use bevy::prelude::*;
+
+    use crate::execution::{ExecutionMode, SplitPolicy};
     use crate::rng::Rng;
     use crate::systems::Aabb;
 
@@ -138,7 +125,7 @@ mod tests {
     /// gather their boxes from many filed chunks.
     fn run(boxes: &[Aabb], mode: ExecutionMode) -> Vec<(u32, u32)> {
         let exec = Execution::new(mode, 3).unwrap().fine_grained();
-        sweep_and_prune(boxes, &exec, &mut SweepScratch::default())
+        sweep_and_prune(boxes, &exec, &mut SortedBoxes::default())
     }
 
     fn unit_boxes(centers: &[[f32; 3]]) -> Vec<Aabb> {
@@ -223,7 +210,7 @@ mod tests {
     #[test]
     fn reused_scratch_gives_the_same_pairs_when_the_box_count_changes() {
         let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap().fine_grained();
-        let mut scratch = SweepScratch::default();
+        let mut scratch = SortedBoxes::default();
         for (count, seed) in [(4000, 7), (2500, 8), (4000, 9)] {
             let boxes = random_boxes(count, seed);
             let found = sweep_and_prune(boxes.as_slice(), &exec, &mut scratch);
@@ -232,10 +219,18 @@ mod tests {
     }
 
     #[test]
-    fn order_key_preserves_float_order() {
-        let xs = [-1e30f32, -5.0, -1.0, -0.0, 0.0, 1e-40, 1.0, 2.5, 1e30];
-        for w in xs.windows(2) {
-            assert!(order_key(w[0]) <= order_key(w[1]), "{} vs {}", w[0], w[1]);
+    fn every_split_policy_finds_the_same_pairs_in_the_same_order() {
+        let boxes = random_boxes(20_000, 11);
+        let whole = run(&boxes, ExecutionMode::Sequential);
+        for split in [
+            SplitPolicy::Always,
+            SplitPolicy::Above(5_000),
+            SplitPolicy::Above(50_000),
+            SplitPolicy::Auto,
+        ] {
+            let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap().with_split(split);
+            let found = sweep_and_prune(boxes.as_slice(), &exec, &mut SortedBoxes::default());
+            assert_eq!(found, whole, "split {split}");
         }
     }
 }

@@ -1,12 +1,12 @@
-//! [`BroadPhasePlugin`]: the broad phase as a stage, reading the bodies'
-//! table columns in place and writing [`OverlappingPairs`].
+//! [`SweepPlugin`]: the broad phase's second stage, sweeping the
+//! [`SortedBoxes`] and writing [`OverlappingPairs`].
 
 use std::time::Instant;
 
 use bevy::prelude::*;
 
-use super::{BodyColumns, SweepScratch, sweep_and_prune};
-use crate::components::{BodyId, HalfExtents, Position};
+use super::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sweep_sorted};
+use crate::components::BodyId;
 use crate::execution::Execution;
 use crate::resources::SimulationSettings;
 use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
@@ -29,23 +29,23 @@ pub struct Pair {
 #[derive(Resource, Clone, Debug, Default)]
 pub struct OverlappingPairs(pub Vec<Pair>);
 
-/// Finds [`OverlappingPairs`] in [`SimulationSystems::BroadPhase`].
-pub struct BroadPhasePlugin;
+/// Finds [`OverlappingPairs`] in [`SimulationSystems::Sweep`].
+pub struct SweepPlugin;
 
-impl Plugin for BroadPhasePlugin {
+impl Plugin for SweepPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<OverlappingPairs>()
-            .add_systems(SimulationUpdate, broad_phase.in_set(SimulationSystems::BroadPhase));
+            .add_systems(SimulationUpdate, sweep.in_set(SimulationSystems::Sweep));
     }
 }
 
-fn broad_phase(
+fn sweep(
     settings: Res<SimulationSettings>,
     execution: Res<Execution>,
     mut timings: ResMut<StageTimings>,
     mut pairs: ResMut<OverlappingPairs>,
-    mut scratch: Local<SweepScratch>,
-    bodies: Query<(Entity, &BodyId, &Position, &HalfExtents)>,
+    sorted: Res<SortedBoxes>,
+    bodies: BroadPhaseQuery,
 ) {
     pairs.0.clear();
     if !settings.collisions {
@@ -53,7 +53,11 @@ fn broad_phase(
     }
     let start = Instant::now();
     let columns = BodyColumns::new(bodies.contiguous_iter().expect("body components are table-stored"));
-    let index_pairs = sweep_and_prune(&columns, &execution, &mut scratch);
+    // The sort stage ran on these bodies just before (nothing spawns or
+    // despawns between the two stages).
+    debug_assert_eq!(sorted.len(), columns.len(), "the sort saw other bodies");
+    let stage = execution.for_stage(SimulationSystems::Sweep.name(), columns.len());
+    let index_pairs = sweep_sorted(&sorted, stage);
     pairs.0.extend(index_pairs.iter().map(|&(i, j)| {
         let (first, second) = (columns.body(i as usize), columns.body(j as usize));
         let ((a, entity_a), (b, entity_b)) = if first < second {
@@ -69,5 +73,5 @@ fn broad_phase(
         }
     }));
     pairs.0.sort_unstable_by_key(|p| (p.a, p.b));
-    timings.record(SimulationSystems::BroadPhase, start.elapsed());
+    timings.record(SimulationSystems::Sweep, start.elapsed());
 }

@@ -1,0 +1,264 @@
+//! Where parallel starts to pay (the thesis's Figures 22–24): from the
+//! passes of sequential runs and of parallel runs with split `Always` at
+//! the same body counts, the smallest count from which `Always` beats
+//! sequential in every pass — for the whole update and for each stage —
+//! and how close `Auto` came to the better of the two.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::report::times_by_stage;
+use super::run::RunResult;
+use crate::execution::{ExecutionMode, SplitPolicy};
+
+/// Header of `<stem>-crossover.csv`.
+pub const CROSSOVER_HEADER: &str = "stage,threads,crossover_bodies,counts,auto_worst_percent,auto_worst_bodies";
+
+/// The crossover of one stage (or `update`) on one thread count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Crossover {
+    /// `update` or a stage name.
+    pub stage: &'static str,
+    /// Threads of the `Always` runs.
+    pub threads: usize,
+    /// Smallest measured body count from which `Always` beat sequential in
+    /// every pass, at that count and every larger one; `None` if it did not
+    /// at the largest.
+    pub from_bodies: Option<u64>,
+    /// Body counts measured both ways.
+    pub counts: usize,
+    /// The largest excess of `Auto`'s median time over the better of
+    /// sequential and `Always`, in percent, and where; `None` without
+    /// `Auto` runs at those counts.
+    pub auto_worst: Option<(f64, u64)>,
+}
+
+impl Crossover {
+    /// The CSV row (no line end); an empty field where nothing was found.
+    pub fn row(&self) -> String {
+        let from = self.from_bodies.map_or(String::new(), |n| n.to_string());
+        let (percent, at) = self.auto_worst.map_or((String::new(), String::new()), |(p, at)| {
+            (format!("{p:.1}"), at.to_string())
+        });
+        format!("{},{},{from},{},{percent},{at}", self.stage, self.threads, self.counts)
+    }
+}
+
+/// Every pass of the runs that match `select`, by configured body count.
+fn series(passes: &[Vec<RunResult>], select: impl Fn(&RunResult) -> bool) -> BTreeMap<u64, &[RunResult]> {
+    passes
+        .iter()
+        .filter(|p| p.first().is_some_and(&select))
+        .map(|p| (p[0].bodies, p.as_slice()))
+        .collect()
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values.get(values.len().saturating_sub(1) / 2).copied().unwrap_or(0.0)
+}
+
+/// The time of `stage` (or `update`) in `r`.
+fn time_of(r: &RunResult, stage: &str) -> f64 {
+    times_by_stage(r).find(|(s, _)| *s == stage).map_or(0.0, |(_, t)| t)
+}
+
+/// Median time of `stage` over passes.
+fn median_of(passes: &[RunResult], stage: &str) -> f64 {
+    median(passes.iter().map(|r| time_of(r, stage)).collect())
+}
+
+/// When split counts as faster than whole at one body count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wins {
+    /// In every pass (each pass ran both, one after the other): the
+    /// report's strict reading.
+    EveryPass,
+    /// In the median of the passes: the calibration's, which a single
+    /// disturbed pass does not move.
+    Median,
+}
+
+impl Wins {
+    fn split_wins(self, split: &[RunResult], whole: &[RunResult], stage: &str) -> bool {
+        if split.is_empty() || split.len() != whole.len() {
+            return false;
+        }
+        match self {
+            Self::EveryPass => split
+                .iter()
+                .zip(whole)
+                .all(|(s, w)| time_of(s, stage) < time_of(w, stage)),
+            Self::Median => median_of(split, stage) < median_of(whole, stage),
+        }
+    }
+}
+
+/// The crossovers of the whole update and of every stage, for each thread
+/// count that has `Always` runs, from all passes of all runs (in config
+/// order; a run's passes all share its settings), `Always` winning as
+/// `wins` says. Empty without a sequential and an `Always` run at the same
+/// body count.
+pub fn crossovers(passes: &[Vec<RunResult>], wins: Wins) -> Vec<Crossover> {
+    let is_always = |r: &RunResult| r.mode == ExecutionMode::Parallel && r.split == SplitPolicy::Always;
+    let sequential = series(passes, |r| r.mode == ExecutionMode::Sequential);
+    let threads: BTreeSet<usize> = passes
+        .iter()
+        .flatten()
+        .filter(|r| is_always(r))
+        .map(|r| r.threads)
+        .collect();
+    let stages: Vec<&'static str> = passes
+        .iter()
+        .flatten()
+        .next()
+        .map(|r| times_by_stage(r).map(|(s, _)| s).collect())
+        .unwrap_or_default();
+    let mut found = Vec::new();
+    for threads in threads {
+        let always = series(passes, |r| is_always(r) && r.threads == threads);
+        let auto = series(passes, |r| {
+            r.mode == ExecutionMode::Parallel && r.split == SplitPolicy::Auto && r.threads == threads
+        });
+        let counts: Vec<u64> = always.keys().filter(|n| sequential.contains_key(n)).copied().collect();
+        if counts.is_empty() {
+            continue;
+        }
+        for &stage in &stages {
+            let mut from_bodies = None;
+            for n in counts.iter().rev() {
+                if !wins.split_wins(always[n], sequential[n], stage) {
+                    break;
+                }
+                from_bodies = Some(*n);
+            }
+            let auto_worst = counts
+                .iter()
+                .filter_map(|n| {
+                    let auto = auto.get(n)?;
+                    let best = median_of(sequential[n], stage).min(median_of(always[n], stage));
+                    let excess = if best > 0.0 {
+                        (median_of(auto, stage) / best - 1.0) * 100.0
+                    } else {
+                        0.0
+                    };
+                    Some((excess, *n))
+                })
+                .max_by(|a, b| a.0.total_cmp(&b.0));
+            found.push(Crossover {
+                stage,
+                threads,
+                from_bodies,
+                counts: counts.len(),
+                auto_worst,
+            });
+        }
+    }
+    found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::systems::STAGE_COUNT;
+
+    fn pass(bodies: u64, mode: ExecutionMode, split: SplitPolicy, update_ns: f64) -> RunResult {
+        RunResult {
+            run: 1,
+            bodies,
+            bodies_start: bodies as usize,
+            bodies_end: bodies as usize,
+            updates: 1,
+            mode,
+            threads: if mode == ExecutionMode::Sequential { 1 } else { 2 },
+            split,
+            update_ns,
+            stage_ns: [update_ns / STAGE_COUNT as f64; STAGE_COUNT],
+        }
+    }
+
+    /// Each run's passes from its update times.
+    fn runs<const P: usize>(mode: ExecutionMode, split: SplitPolicy, times: &[(u64, [f64; P])]) -> Vec<Vec<RunResult>> {
+        times
+            .iter()
+            .map(|(n, passes)| passes.iter().map(|&t| pass(*n, mode, split, t)).collect())
+            .collect()
+    }
+
+    #[test]
+    fn the_crossover_is_where_always_wins_every_pass_from_then_on() {
+        let mut all = runs(
+            ExecutionMode::Sequential,
+            SplitPolicy::Auto,
+            &[
+                (100, [10.0; 3]),
+                (1000, [100.0; 3]),
+                (2000, [200.0; 3]),
+                (5000, [500.0; 3]),
+            ],
+        );
+        all.extend(runs(
+            ExecutionMode::Parallel,
+            SplitPolicy::Always,
+            // 1000 wins two passes of three only; 100 wins, but 1000 above
+            // it does not, so the crossover is 2000.
+            &[
+                (100, [9.0; 3]),
+                (1000, [90.0, 120.0, 90.0]),
+                (2000, [150.0; 3]),
+                (5000, [300.0; 3]),
+            ],
+        ));
+        all.extend(runs(
+            ExecutionMode::Parallel,
+            SplitPolicy::Auto,
+            &[
+                (100, [11.0; 3]),
+                (1000, [95.0; 3]),
+                (2000, [150.0; 3]),
+                (5000, [330.0; 3]),
+            ],
+        ));
+        let found = crossovers(&all, Wins::EveryPass);
+        let update = found.iter().find(|c| c.stage == "update").unwrap();
+        assert_eq!(update.from_bodies, Some(2000));
+        // By median, 1000 wins too (90 against 100).
+        let by_median = crossovers(&all, Wins::Median);
+        assert_eq!(
+            by_median.iter().find(|c| c.stage == "update").unwrap().from_bodies,
+            Some(100)
+        );
+        assert_eq!((update.threads, update.counts), (2, 4));
+        // Auto at 100: 11 against the better 9 → 22 % over; at 5000: 10 %.
+        let (worst, at) = update.auto_worst.unwrap();
+        assert!(
+            (worst - 100.0 * (11.0 / 9.0 - 1.0)).abs() < 1e-9 && at == 100,
+            "{worst} at {at}"
+        );
+        assert_eq!(found.len(), 1 + STAGE_COUNT, "the update and every stage");
+        assert_eq!(update.row(), "update,2,2000,4,22.2,100");
+    }
+
+    #[test]
+    fn no_crossover_when_always_loses_at_the_largest_count() {
+        let mut all = runs(
+            ExecutionMode::Sequential,
+            SplitPolicy::Auto,
+            &[(100, [10.0; 2]), (200, [20.0; 2])],
+        );
+        all.extend(runs(
+            ExecutionMode::Parallel,
+            SplitPolicy::Always,
+            &[(100, [5.0; 2]), (200, [25.0; 2])],
+        ));
+        let update = crossovers(&all, Wins::EveryPass)
+            .into_iter()
+            .find(|c| c.stage == "update")
+            .unwrap();
+        assert_eq!((update.from_bodies, update.auto_worst), (None, None));
+        assert_eq!(update.row(), "update,2,,2,,");
+        assert!(
+            crossovers(&all[..2], Wins::Median).is_empty(),
+            "no Always runs: nothing to say"
+        );
+    }
+}

@@ -1,0 +1,160 @@
+//! What machine a benchmark ran on: written beside its results as
+//! `<stem>-machine.txt`, so that figures never travel without it.
+
+use std::fmt::Write as _;
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use crate::execution::available_threads;
+
+/// A `key: value` line per fact: CPU model, cores and threads, memory, OS,
+/// rustc, Kessler's version and commit, the date (UTC), and the command.
+pub fn machine_report(command: &str) -> String {
+    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let mut out = String::new();
+    let mut line = |key: &str, value: String| {
+        let _ = writeln!(out, "{key}: {value}");
+    };
+    line(
+        "cpu",
+        cpu_model(&cpuinfo).unwrap_or_else(|| std::env::consts::ARCH.to_owned()),
+    );
+    line(
+        "cores",
+        physical_cores(&cpuinfo).map_or("unknown".into(), |n| n.to_string()),
+    );
+    line("hardware threads", available_threads().to_string());
+    line("memory", memory_total().unwrap_or_else(|| "unknown".into()));
+    line("os", os_name());
+    line("rustc", env!("KESSLER_RUSTC_VERSION").to_owned());
+    line(
+        "kessler",
+        format!("{} (commit {})", env!("CARGO_PKG_VERSION"), env!("KESSLER_GIT_COMMIT")),
+    );
+    line(
+        "profile",
+        if cfg!(debug_assertions) { "debug" } else { "release" }.to_owned(),
+    );
+    line("date", utc_now());
+    line("command", command.to_owned());
+    out
+}
+
+/// `model name` of the first processor in `/proc/cpuinfo`.
+fn cpu_model(cpuinfo: &str) -> Option<String> {
+    cpuinfo
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split_once(':'))
+        .map(|(_, v)| v.trim().to_owned())
+}
+
+/// Distinct `(physical id, core id)` pairs in `/proc/cpuinfo`.
+fn physical_cores(cpuinfo: &str) -> Option<usize> {
+    let mut cores = std::collections::BTreeSet::new();
+    let (mut package, mut core) = (None, None);
+    for l in cpuinfo.lines().chain(std::iter::once("")) {
+        let value = || l.split_once(':').map(|(_, v)| v.trim().to_owned());
+        if l.starts_with("physical id") {
+            package = value();
+        } else if l.starts_with("core id") {
+            core = value();
+        } else if l.trim().is_empty()
+            && let Some(c) = core.take()
+        {
+            cores.insert((package.take(), c));
+        }
+    }
+    (!cores.is_empty()).then_some(cores.len())
+}
+
+fn memory_total() -> Option<String> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let kib: u64 = meminfo
+        .lines()
+        .find(|l| l.starts_with("MemTotal:"))?
+        .split_whitespace()
+        .nth(1)?
+        .parse()
+        .ok()?;
+    Some(format!("{:.1} GiB", kib as f64 / f64::from(1 << 20)))
+}
+
+fn os_name() -> String {
+    let release = std::fs::read_to_string("/etc/os-release").unwrap_or_default();
+    let pretty = release
+        .lines()
+        .find_map(|l| l.strip_prefix("PRETTY_NAME="))
+        .map(|v| v.trim_matches('"').to_owned());
+    let kernel = std::fs::read_to_string("/proc/sys/kernel/osrelease").ok();
+    match (pretty, kernel) {
+        (Some(os), Some(k)) => format!("{os}, kernel {}", k.trim()),
+        (Some(os), None) => os,
+        (None, _) => std::env::consts::OS.to_owned(),
+    }
+}
+
+/// Now as `YYYY-MM-DD HH:MM:SS UTC`.
+fn utc_now() -> String {
+    let secs = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs());
+    let (days, rest) = (secs / 86_400, secs % 86_400);
+    let (y, m, d) = civil_from_days(days as i64);
+    format!(
+        "{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC",
+        rest / 3600,
+        rest % 3600 / 60,
+        rest % 60
+    )
+}
+
+/// The proleptic Gregorian date of a day count since 1970-01-01 (Howard
+/// Hinnant's `civil_from_days`).
+fn civil_from_days(z: i64) -> (i64, u32, u32) {
+    let z = z + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    (yoe + era * 400 + i64::from(m <= 2), m, d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates_from_day_counts() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(20_787), (2026, 11, 30));
+    }
+
+    #[test]
+    fn cores_are_counted_once_per_physical_core() {
+        let cpuinfo = "processor: 0\nphysical id: 0\ncore id: 0\n\nprocessor: 1\nphysical id: 0\ncore id: 0\n\n\
+                       processor: 2\nphysical id: 0\ncore id: 1\n";
+        assert_eq!(physical_cores(cpuinfo), Some(2));
+        assert_eq!(
+            cpu_model("model name\t: Some CPU @ 2GHz\n").as_deref(),
+            Some("Some CPU @ 2GHz")
+        );
+    }
+
+    #[test]
+    fn the_report_names_the_machine_and_the_build() {
+        let report = machine_report("kessler bench x.ron");
+        for key in [
+            "cpu:",
+            "hardware threads:",
+            "os:",
+            "rustc:",
+            "kessler:",
+            "date:",
+            "command: kessler bench x.ron",
+        ] {
+            assert!(report.contains(key), "{key} missing in\n{report}");
+        }
+    }
+}

@@ -1,0 +1,9 @@
+//! This machine's split calibration (docs/design.md, "Sequential and
+//! parallel"): from which body count each stage pays for splitting its
+//! work, measured by `kessler calibrate` and used by split policy `Auto`.
+
+mod file;
+mod measure;
+
+pub use file::*;
+pub use measure::*;

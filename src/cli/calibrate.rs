@@ -1,0 +1,47 @@
+//! `kessler calibrate [--threads T] [--out FILE]`.
+
+use std::path::Path;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::Failure;
+use crate::calibration::{calibrate, load_calibration};
+use crate::execution::available_threads;
+use crate::user_files::default_calibration_path;
+
+/// Runs the command.
+pub fn calibrate_command(threads: Option<usize>, out: Option<&Path>) -> Result<(), Failure> {
+    let threads = threads.unwrap_or_else(available_threads);
+    let path = out.map_or_else(default_calibration_path, Path::to_owned);
+    let bar = ProgressBar::new(0).with_style(
+        ProgressStyle::with_template("{spinner} calibrating [{bar:30}] {pos}/{len} runs, eta {eta}")
+            .expect("template is valid")
+            .progress_chars("=> "),
+    );
+    let calibration = calibrate(threads, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })
+    .map_err(|e| Failure::from(e).context("calibrate"))?;
+    bar.finish_and_clear();
+    let previous = load_calibration(&path).ok().flatten();
+    calibration.save(&path).map_err(Failure::from)?;
+    println!(
+        "split calibration for {threads} thread{} written to {}{}:",
+        if threads == 1 { "" } else { "s" },
+        path.display(),
+        if previous.is_some() {
+            " (replacing the previous one)"
+        } else {
+            ""
+        }
+    );
+    for (stage, from) in &calibration.split_from {
+        let before = previous
+            .as_ref()
+            .and_then(|p| p.split_from.get(stage))
+            .map_or(String::new(), |b| format!(" (was {b})"));
+        println!("  {stage:<10} splits from {from} bodies{before}");
+    }
+    Ok(())
+}
