@@ -165,33 +165,44 @@ fn window_shows_the_planet_and_the_bodies() {
 
     // The bodies: the debris field changes thousands of pixels of the view
     // against the same scene drawn without bodies, in all three methods.
-    // Colored by state (speed) in the instanced and the mesh-per-body
-    // method; plain gray with the one shared mesh.
-    let colored = |[r, g, b]: [u8; 3]| r.max(g).max(b) - r.min(g).min(b) > 60;
-    let mut colored_share = Vec::new();
+    // Against the black sky, they are colored by state (speed) in the
+    // instanced and the mesh-per-body method, and plain gray with the one
+    // shared mesh: compare the mean saturation of those pixels.
+    let saturation = |[r, g, b]: [u8; 3]| {
+        let (hi, lo) = (r.max(g).max(b), r.min(g).min(b));
+        f64::from(hi - lo) / f64::from(hi.max(1))
+    };
+    let mut mean_saturation = Vec::new();
     for (name, picture) in [
         ("instanced", &with_bodies),
         ("shared mesh", &meshes),
         ("mesh per body", &own),
     ] {
-        let changed: Vec<[u8; 3]> = with_bodies
+        let changed = with_bodies
             .scene_pixels()
             .filter(|&(x, y)| differs(picture.pixel(x, y), without.pixel(x, y)))
+            .count();
+        assert!(changed > 1000, "{name}: only {changed} pixels show bodies");
+        let on_sky: Vec<f64> = with_bodies
+            .scene_pixels()
+            .filter(|&(x, y)| without.pixel(x, y).iter().all(|&c| c < 30))
             .map(|(x, y)| picture.pixel(x, y))
+            .filter(|p| p.iter().any(|&c| c > 60))
+            .map(saturation)
             .collect();
         assert!(
-            changed.len() > 1000,
-            "{name}: only {} pixels show bodies",
-            changed.len()
+            on_sky.len() > 200,
+            "{name}: only {} body pixels on the sky",
+            on_sky.len()
         );
-        colored_share.push(changed.iter().filter(|&&p| colored(p)).count() as f64 / changed.len() as f64);
+        mean_saturation.push(on_sky.iter().sum::<f64>() / on_sky.len() as f64);
     }
-    let [instanced, shared, own] = colored_share[..] else {
+    let [instanced, shared, own] = mean_saturation[..] else {
         unreachable!()
     };
     assert!(
-        own > 0.3 && instanced > 0.3 && shared < own / 3.0,
-        "colored share of body pixels: instanced {instanced:.2}, shared mesh {shared:.2}, mesh per body {own:.2}"
+        own > 1.4 * shared && instanced > 1.4 * shared,
+        "mean saturation of body pixels on the sky: instanced {instanced:.3}, shared mesh {shared:.3}, mesh per body {own:.3}"
     );
 }
 
@@ -240,7 +251,7 @@ fn a_benchmark_render_run_reports_frames_memory_and_gpu_memory() {
         // The scene's 300 cubes and its planet.
         assert_eq!(f[1], "301", "{line}");
         let number = |k: usize| f[k].parse::<f64>().unwrap();
-        assert_eq!(f[6], "15", "frames timed after the warm-up: {line}");
+        assert!(number(6) >= 15.0, "frames timed after the warm-up: {line}");
         assert!(
             number(7) > 0.0 && number(8) > 0.0 && number(9) >= number(8) * 0.5,
             "{line}"

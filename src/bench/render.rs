@@ -15,7 +15,7 @@ pub const WINDOW_WARMUP_FRAMES: u64 = 10;
 
 /// Header of `<stem>-render.csv`.
 pub const RENDER_HEADER: &str = "run,bodies,method,simulate,mode,vsync,frames,mean_fps,mean_frame_ms,p95_frame_ms,\
-updates_per_second,peak_ram_bytes,gpu_bytes,gpu_bytes_source,adapter";
+updates_per_second,peak_ram_bytes,gpu_bytes,gpu_reserved_bytes,gpu_bytes_source,adapter";
 
 /// What a window run measured, as its child wrote it to the frame report.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -32,8 +32,10 @@ pub struct FrameReport {
     pub updates_per_second: f64,
     /// Peak resident memory of the process, bytes.
     pub peak_ram_bytes: u64,
-    /// GPU memory, bytes (see `gpu_source`).
+    /// GPU memory in use, bytes (see `gpu_source`).
     pub gpu_bytes: u64,
+    /// GPU memory the allocator holds, in use or not, bytes (0 if unknown).
+    pub gpu_reserved_bytes: u64,
     /// Where `gpu_bytes` comes from.
     pub gpu_source: String,
     /// The GPU adapter's name.
@@ -44,7 +46,7 @@ impl FrameReport {
     /// `key=value` lines, as the child writes them.
     pub fn to_text(&self) -> String {
         format!(
-            "bodies={}\nframes={}\nmean_ms={}\np95_ms={}\nupdates_per_second={}\npeak_ram_bytes={}\ngpu_bytes={}\ngpu_source={}\nadapter={}\n",
+            "bodies={}\nframes={}\nmean_ms={}\np95_ms={}\nupdates_per_second={}\npeak_ram_bytes={}\ngpu_bytes={}\ngpu_reserved_bytes={}\ngpu_source={}\nadapter={}\n",
             self.bodies,
             self.frames,
             self.mean_ms,
@@ -52,6 +54,7 @@ impl FrameReport {
             self.updates_per_second,
             self.peak_ram_bytes,
             self.gpu_bytes,
+            self.gpu_reserved_bytes,
             self.gpu_source,
             self.adapter
         )
@@ -73,6 +76,7 @@ impl FrameReport {
             updates_per_second: get("updates_per_second")?.parse().ok()?,
             peak_ram_bytes: get("peak_ram_bytes")?.parse().ok()?,
             gpu_bytes: get("gpu_bytes")?.parse().ok()?,
+            gpu_reserved_bytes: get("gpu_reserved_bytes")?.parse().ok()?,
             gpu_source: get("gpu_source")?.to_owned(),
             adapter: get("adapter")?.to_owned(),
         })
@@ -99,7 +103,7 @@ pub fn render_row(index: usize, run: &RenderRun, report: &FrameReport) -> String
         0.0
     };
     format!(
-        "{index},{},{},{},{},{},{},{fps:.2},{:.3},{:.3},{:.1},{},{},{},{}",
+        "{index},{},{},{},{},{},{},{fps:.2},{:.3},{:.3},{:.1},{},{},{},{},{}",
         report.bodies,
         run.method,
         run.simulate,
@@ -111,6 +115,7 @@ pub fn render_row(index: usize, run: &RenderRun, report: &FrameReport) -> String
         report.updates_per_second,
         report.peak_ram_bytes,
         report.gpu_bytes,
+        report.gpu_reserved_bytes,
         plain(&report.gpu_source),
         plain(&report.adapter)
     )
@@ -210,6 +215,7 @@ mod tests {
             updates_per_second: 0.0,
             peak_ram_bytes: 123_456,
             gpu_bytes: 7890,
+            gpu_reserved_bytes: 65536,
             gpu_source: "wgpu allocator".into(),
             adapter: "llvmpipe (LLVM 19, 256 bits)".into(),
         };

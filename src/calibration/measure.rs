@@ -83,7 +83,7 @@ pub fn calibrate(threads: usize, mut progress: impl FnMut(usize, usize)) -> Resu
 /// still splits where the update as a whole gains, which keeps `Auto` at
 /// least as fast as `Always` wherever `Always` is the faster of the two.
 fn split_counts(passes: &[Vec<RunResult>]) -> BTreeMap<String, u64> {
-    let found = crossovers(passes, Wins::Median);
+    let found = crossovers(passes, Wins::Fastest);
     let from = |c: &Crossover| c.from_bodies.unwrap_or(NOT_FOUND);
     let update = found.iter().find(|c| c.stage == "update").map_or(NOT_FOUND, from);
     found

@@ -38,11 +38,12 @@
 //!
 //! # How a parallel step runs
 //!
-//! `claims.rs` cuts the input into about four chunks per thread, which the
-//! threads claim in turn from a shared counter; the thread that started the
-//! step waits for the others' last chunks spinning, not asleep, because on
-//! the virtual machines this runs on, waking a sleeping thread costs tens of
-//! microseconds. After a step, `keep_warm.rs` keeps the idle workers polling
+//! `claims.rs` cuts the input into about four chunks per thread, in a block
+//! per thread that its thread claims first (the same bodies every step, so
+//! they stay in that core's caches) before helping with the others' blocks;
+//! the thread that started the step waits for the others' last chunks
+//! spinning, not asleep, because on the virtual machines this runs on,
+//! waking a sleeping thread costs tens of microseconds. After a step, `keep_warm.rs` keeps the idle workers polling
 //! for a millisecond, so the next step of the same update finds them awake.
 //! Why a pool of our own rather than Bevy's `ComputeTaskPool` or `par_iter`:
 //! see ARCHITECTURE.md, "Parallel execution".

@@ -28,7 +28,7 @@ pub struct Execution {
     split: SplitPolicy,
     /// The per-stage counts of [`SplitPolicy::Auto`].
     auto: Arc<AutoSplit>,
-    /// Ignore the callers' grains and split all work as finely as possible.
+    /// Split all work, at every body count, into one-item chunks.
     fine_grained: bool,
     /// Set whenever work was split since the last [`install`](Self::install).
     split_recently: Arc<AtomicBool>,

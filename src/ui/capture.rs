@@ -70,7 +70,9 @@ fn bodies_ready(settings: &SandboxSettings, instanced: &Query<&InstancedBodies>)
     if !settings.render_bodies || settings.render_method != DrawMethod::Instanced {
         return true;
     }
-    instanced.iter().all(|InstancedBodies(slot)| slot.draws() > 0)
+    instanced
+        .iter()
+        .all(|InstancedBodies(slot)| slot.draws() > 0 || slot.is_empty())
 }
 
 /// After the frames (and once the bodies are on screen), takes the
@@ -165,6 +167,7 @@ fn report_frames(
             updates_per_second: ups,
             peak_ram_bytes: peak_resident_bytes().unwrap_or(0),
             gpu_bytes: gpu.bytes,
+            gpu_reserved_bytes: gpu.reserved,
             gpu_source: gpu.source,
             adapter: gpu.adapter,
         };

@@ -19,8 +19,10 @@ const EVERY: u64 = 10;
 /// The latest reading.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct GpuMemoryReading {
-    /// Bytes of GPU memory.
+    /// Bytes of GPU memory in use.
     pub bytes: u64,
+    /// Bytes the allocator holds, in use or not (0 if unknown).
+    pub reserved: u64,
     /// Where the figure comes from.
     pub source: String,
     /// The GPU adapter's name and backend.
@@ -66,15 +68,21 @@ fn read_gpu_memory(
         return;
     }
     let info = &adapter.0;
-    let (bytes, source) = match device.wgpu_device().generate_allocator_report() {
-        Some(report) => (report.total_reserved_bytes, "wgpu allocator, reserved".to_owned()),
+    let (bytes, reserved, source) = match device.wgpu_device().generate_allocator_report() {
+        Some(report) => (
+            report.total_allocated_bytes,
+            report.total_reserved_bytes,
+            "wgpu allocator".to_owned(),
+        ),
         None => (
             instances.map_or(0, |b| b.bytes()),
+            0,
             "kessler's own GPU buffers (instances only; the backend has no allocator report)".to_owned(),
         ),
     };
     *memory.0.lock().unwrap_or_else(PoisonError::into_inner) = GpuMemoryReading {
         bytes,
+        reserved,
         source,
         adapter: format!("{} ({:?})", info.name, info.backend),
     };
