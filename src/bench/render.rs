@@ -222,7 +222,7 @@ mod tests {
         assert_eq!(FrameReport::parse(&report.to_text()), Some(report.clone()));
         assert_eq!(
             render_row(3, &run(), &report),
-            "3,1001,mesh-per-body,false,parallel,off,50,250.00,4.000,6.500,0.0,123456,7890,wgpu allocator,llvmpipe (LLVM 19  256 bits)"
+            "3,1001,mesh-per-body,false,parallel,off,50,250.00,4.000,6.500,0.0,123456,7890,65536,wgpu allocator,llvmpipe (LLVM 19  256 bits)"
         );
         assert_eq!(
             RENDER_HEADER.split(',').count(),
