@@ -319,3 +319,35 @@ fn without_a_display_the_window_says_so() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(stderr.contains("DISPLAY") && stderr.contains("headless"), "{stderr}");
 }
+
+#[test]
+fn a_benchmark_with_render_runs_needs_a_display_and_writes_nothing_without() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("render.ron");
+    std::fs::write(
+        &config,
+        "Bench(runs: [Run(bodies: 10, updates: 2), Render(bodies: 10, frames: 5, method: Instanced)])",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+        .arg("bench")
+        .arg(&config)
+        .arg("--out")
+        .arg(dir.path().join("results.csv"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("render.ron") && stderr.contains("runs[1]") && stderr.contains("DISPLAY"),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "only the config is there"
+    );
+}

@@ -23,6 +23,16 @@ const EMPTY_STEP_THREADS: [usize; 2] = [1, 2];
 /// Runs the command: load and check everything, measure, write.
 pub fn bench(config_path: &Path, out: &Path, split: SplitPolicy) -> Result<(), Failure> {
     let config = BenchConfig::load(config_path)?;
+    if let Some((i, _)) = config.render_runs().next()
+        && cfg!(target_os = "linux")
+        && std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty())
+    {
+        return Err(Failure::input(format!(
+            "{}: runs[{i}]: `Render` runs open the window, and there is no X11 display (DISPLAY is not set): \
+             run the benchmark in a desktop session or under `xvfb-run -a kessler bench ...`",
+            config_path.display()
+        )));
+    }
     let outputs = BenchOutputs::beside(out);
     outputs.check()?;
     let scenario = config.load_scenario(config_path)?;
