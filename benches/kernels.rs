@@ -132,7 +132,7 @@ fn shatter(c: &mut Criterion) {
     let mut group = c.benchmark_group("kernel_shatter");
     for count in [5, 50] {
         group.bench_with_input(BenchmarkId::new("fragments", count), &count, |bench, &count| {
-            bench.iter(|| fragments(&a, &b, count, 1, BodyId(2)))
+            bench.iter(|| fragments(&a, &b, count, 0.2, 1, BodyId(2)))
         });
     }
     group.finish();

@@ -15,6 +15,9 @@ pub struct SimulationSettings {
     pub shatter_threshold: f32,
     /// Fragments spawned per shatter; always ≥ 2.
     pub shatter_fragments: u32,
+    /// Fragments' speed away from their center of mass, as a share of the
+    /// impact speed (the thesis's "Streuung"), 0 to 10.
+    pub fragment_spread: f32,
     /// Seed of every random choice the simulation makes (fragment spread).
     pub seed: u64,
     /// Gravity stage on/off. Off: adopters keep their velocity.
@@ -34,6 +37,7 @@ impl SimulationSettings {
         softening: 0.0,
         shatter_threshold: 3.0,
         shatter_fragments: 5,
+        fragment_spread: 0.2,
         seed: 1,
         gravity: true,
         collisions: true,

@@ -36,6 +36,7 @@ checked_f32! {
     time_step: "finite and > 0", |v| v > 0.0;
     softening: "finite and >= 0", |v| v >= 0.0;
     shatter_threshold: "finite and >= 0", |v| v >= 0.0;
+    fragment_spread: "finite and between 0 and 10", |v| (0.0..=10.0).contains(&v);
     mass: "finite and > 0", |v| v > 0.0;
     max_speed: "finite and >= 0", |v| v >= 0.0;
     inner_radius: "finite and > 0", |v| v > 0.0;

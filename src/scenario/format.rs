@@ -40,6 +40,10 @@ pub struct Scenario {
         deserialize_with = "checked::shatter_fragments"
     )]
     pub shatter_fragments: u32,
+    /// Fragments' speed away from their center of mass, as a share of the
+    /// impact speed (the thesis's "Streuung"), 0 to 10; default 0.2.
+    #[serde(default = "defaults::fragment_spread", deserialize_with = "checked::fragment_spread")]
+    pub fragment_spread: f32,
     /// Seed of the generators and of the fragments' spread; default 1.
     #[serde(default = "defaults::seed")]
     pub seed: u64,
@@ -190,6 +194,9 @@ mod defaults {
     }
     pub fn shatter_fragments() -> u32 {
         PHYSICS.shatter_fragments
+    }
+    pub fn fragment_spread() -> f32 {
+        PHYSICS.fragment_spread
     }
     pub fn seed() -> u64 {
         PHYSICS.seed

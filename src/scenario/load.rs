@@ -87,6 +87,7 @@ impl Scenario {
             softening: self.softening,
             shatter_threshold: self.shatter_threshold,
             shatter_fragments: self.shatter_fragments,
+            fragment_spread: self.fragment_spread,
             seed: self.seed,
             ..SimulationSettings::default()
         }
@@ -154,6 +155,7 @@ mod tests {
         .unwrap();
         assert_eq!((s.gravitational_constant, s.time_step, s.softening), (6.674, 1.0, 0.0));
         assert_eq!((s.shatter_threshold, s.shatter_fragments, s.seed), (3.0, 5, 1));
+        assert_eq!(s.fragment_spread, 0.2, "the thesis's spread by default");
         let bodies = s.bodies().unwrap();
         assert_eq!(bodies.len(), 2);
         let b = bodies[1];

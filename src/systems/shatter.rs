@@ -20,10 +20,6 @@ use crate::resources::{NextBodyId, SimulationSettings};
 use crate::rng::Rng;
 use crate::systems::{PendingShatters, SimulationSystems, SimulationUpdate, StageTimings};
 
-/// Spread speed of fragments relative to the center of mass, as a share of
-/// the impact speed.
-pub const SPREAD: f64 = 0.2;
-
 /// Clearance between neighboring fragments, as a share of their edge.
 const CLEARANCE: f64 = 0.05;
 
@@ -52,8 +48,11 @@ fn sphere_points(count: u32) -> Vec<DVec3> {
 
 /// Kernel: the fragments of bodies `a` and `b`, with ids from `first_id`.
 /// `count` is at least 2 (scenarios reject less, and the response does not
-/// shatter with less); a smaller count is taken as 2.
-pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: BodyId) -> Vec<BodyState> {
+/// shatter with less); a smaller count is taken as 2. `spread` is the
+/// fragments' speed away from their center of mass as a share of the impact
+/// speed (the thesis's "Streuung"), each fragment's between half of it and
+/// all of it.
+pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u64, first_id: BodyId) -> Vec<BodyState> {
     let count = count.max(2);
     let (m1, m2) = (f64::from(a.mass), f64::from(b.mass));
     let total = m1 + m2;
@@ -84,7 +83,7 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, seed: u64, first_id: 
     let radius = (2.0 * half * (1.0 + CLEARANCE) + rounding) / closest;
     let spreads: Vec<DVec3> = directions
         .iter()
-        .map(|d| *d * impact * SPREAD * rng.range(0.5, 1.0))
+        .map(|d| *d * impact * f64::from(spread) * rng.range(0.5, 1.0))
         .collect();
     let mean_spread = spreads.iter().copied().sum::<DVec3>() / f64::from(count);
 
@@ -130,7 +129,7 @@ fn shatter(
         let first = BodyId(next_id.0);
         next_id.0 += u64::from(count);
         commands.spawn_batch(
-            fragments(a, b, count, settings.seed, first)
+            fragments(a, b, count, settings.fragment_spread, settings.seed, first)
                 .into_iter()
                 .map(|f| f.bundle()),
         );
@@ -160,7 +159,7 @@ mod tests {
         let a = body(3, [10.0, 0.0, 0.0], [4.0, 1.0, 0.0], 1.0, [1.0, 1.0, 1.0]);
         let b = body(8, [11.5, 0.5, 0.0], [-2.0, 0.0, 0.5], 3.0, [1.0, 0.5, 2.0]);
         for count in [2, 3, 5, 8, 27, 100] {
-            let f = fragments(&a, &b, count, 1, BodyId(100));
+            let f = fragments(&a, &b, count, 0.2, 1, BodyId(100));
             assert_eq!(f.len(), count as usize);
             let mass: f64 = f.iter().map(|x| f64::from(x.mass)).sum();
             assert!((mass - 4.0).abs() < 1e-5, "mass {mass}");
@@ -181,7 +180,7 @@ mod tests {
         let a = body(0, [0.0; 3], [3.0, 0.0, 0.0], 1.0, [1.0; 3]);
         let b = body(1, [1.9, 0.0, 0.0], [-3.0, 0.0, 0.0], 1.0, [1.0; 3]);
         for count in [2, 5, 12, 64, 300] {
-            let f = fragments(&a, &b, count, 7, BodyId(2));
+            let f = fragments(&a, &b, count, 0.2, 7, BodyId(2));
             let boxes: Vec<Aabb> = f.iter().map(|x| Aabb::new(x.position, x.half_extents)).collect();
             for i in 0..boxes.len() {
                 for j in i + 1..boxes.len() {
@@ -196,7 +195,7 @@ mod tests {
         let a = body(0, [3.0e6, -2.0e6, 0.0], [3.0, 0.0, 0.0], 1.0, [1.0; 3]);
         let b = body(1, [3.0e6 + 1.75, -2.0e6, 0.0], [-3.0, 0.0, 0.0], 1.0, [1.0; 3]);
         for count in [2, 5, 12] {
-            let boxes: Vec<Aabb> = fragments(&a, &b, count, 3, BodyId(2))
+            let boxes: Vec<Aabb> = fragments(&a, &b, count, 0.2, 3, BodyId(2))
                 .iter()
                 .map(|x| Aabb::new(x.position, x.half_extents))
                 .collect();
@@ -212,7 +211,41 @@ mod tests {
     fn spread_is_seeded_and_keyed_by_the_pair() {
         let a = body(0, [0.0; 3], [3.0, 0.0, 0.0], 1.0, [1.0; 3]);
         let b = body(1, [1.9, 0.0, 0.0], [-3.0, 0.0, 0.0], 1.0, [1.0; 3]);
-        assert_eq!(fragments(&a, &b, 5, 1, BodyId(2)), fragments(&b, &a, 5, 1, BodyId(2)));
-        assert_ne!(fragments(&a, &b, 5, 1, BodyId(2)), fragments(&a, &b, 5, 2, BodyId(2)));
+        assert_eq!(
+            fragments(&a, &b, 5, 0.2, 1, BodyId(2)),
+            fragments(&b, &a, 5, 0.2, 1, BodyId(2))
+        );
+        assert_ne!(
+            fragments(&a, &b, 5, 0.2, 1, BodyId(2)),
+            fragments(&a, &b, 5, 0.2, 2, BodyId(2))
+        );
+    }
+
+    #[test]
+    fn the_spread_is_the_fragments_speed_apart_as_a_share_of_the_impact() {
+        // Equal masses meeting head-on at 6: the center of mass rests.
+        let a = body(0, [0.0; 3], [3.0, 0.0, 0.0], 1.0, [1.0; 3]);
+        let b = body(1, [1.9, 0.0, 0.0], [-3.0, 0.0, 0.0], 1.0, [1.0; 3]);
+        let speeds = |spread: f32| -> Vec<f64> {
+            fragments(&a, &b, 8, spread, 1, BodyId(2))
+                .iter()
+                .map(|f| f.velocity.as_dvec3().length())
+                .collect()
+        };
+        assert!(
+            speeds(0.0).iter().all(|&v| v < 1e-6),
+            "no spread: the fragments move together"
+        );
+        let (single, double) = (speeds(0.2), speeds(0.4));
+        for (s, d) in single.iter().zip(&double) {
+            assert!((d - 2.0 * s).abs() < 1e-5, "twice the spread, twice the speed: {s} {d}");
+        }
+        // Each fragment moves at up to the spread's share of the impact speed
+        // (less the small mean that keeps the momentum).
+        let mean = single.iter().sum::<f64>() / single.len() as f64;
+        assert!(
+            mean > 0.2 * 6.0 * 0.4 && single.iter().all(|&v| v < 0.2 * 6.0 * 1.2),
+            "{single:?}"
+        );
     }
 }

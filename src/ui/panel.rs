@@ -9,7 +9,7 @@ use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use super::scene::SandboxState;
 use super::selection::{Selection, selected_info};
 use super::sets::SandboxSystems;
-use super::settings::{CameraMode, MAX_BODY_COUNT, SPEED_RANGE, SandboxSettings, UPS_RANGE};
+use super::settings::{CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODY_COUNT, SPEED_RANGE, SandboxSettings, UPS_RANGE};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, available_threads};
@@ -187,6 +187,8 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
             .logarithmic(true)
             .text("impact threshold"),
     );
+    ui.add(egui::Slider::new(&mut settings.fragment_spread, FRAGMENT_SPREAD_RANGE).text("fragment spread"))
+        .on_hover_text("the fragments' speed apart, as a share of the impact speed (the thesis's \"Streuung\")");
 }
 
 fn scene(

@@ -14,6 +14,8 @@ use crate::resources::SimulationSettings;
 pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
 /// Slowest and fastest simulation speed (a factor on the update rate).
 pub const SPEED_RANGE: std::ops::RangeInclusive<f32> = 0.05..=8.0;
+/// Smallest and largest fragment spread (a share of the impact speed).
+pub const FRAGMENT_SPREAD_RANGE: std::ops::RangeInclusive<f32> = 0.0..=10.0;
 /// Most bodies the panel offers.
 pub const MAX_BODY_COUNT: u64 = 2_000_000;
 
@@ -87,6 +89,9 @@ pub struct SandboxSettings {
     pub shatter_fragments: u32,
     /// Impact speed from which bodies shatter (live).
     pub shatter_threshold: f32,
+    /// Fragments' spread as a share of the impact speed, 0–10 (live; the
+    /// thesis's "Streuung").
+    pub fragment_spread: f32,
     /// Scenario file; `None` is the built-in debris field (on restart).
     pub scenario: Option<PathBuf>,
     /// Camera (live).
@@ -116,6 +121,7 @@ impl Default for SandboxSettings {
             seed: physics.seed,
             shatter_fragments: physics.shatter_fragments,
             shatter_threshold: physics.shatter_threshold,
+            fragment_spread: physics.fragment_spread,
             scenario: None,
             camera: CameraMode::Orbit,
             render_method: DrawMethod::Instanced,
@@ -157,6 +163,10 @@ impl SandboxSettings {
             self.shatter_threshold = SimulationSettings::default().shatter_threshold;
             fixed.push("shatter_threshold");
         }
+        if !FRAGMENT_SPREAD_RANGE.contains(&self.fragment_spread) {
+            self.fragment_spread = SimulationSettings::default().fragment_spread;
+            fixed.push("fragment_spread");
+        }
         fixed
     }
 
@@ -167,14 +177,16 @@ impl SandboxSettings {
         physics.collision_response = self.collision_response;
         physics.shatter_fragments = self.shatter_fragments.max(2);
         physics.shatter_threshold = self.shatter_threshold;
+        physics.fragment_spread = self.fragment_spread;
     }
 
     /// Takes a freshly loaded scenario's own values (seed, fragments,
-    /// threshold) into the settings.
+    /// threshold, spread) into the settings.
     pub fn adopt_scenario(&mut self, physics: &SimulationSettings) {
         self.seed = physics.seed;
         self.shatter_fragments = physics.shatter_fragments;
         self.shatter_threshold = physics.shatter_threshold;
+        self.fragment_spread = physics.fragment_spread;
     }
 }
 
@@ -192,5 +204,24 @@ mod tests {
         }
         assert_eq!(mode, CameraMode::Orbit);
         assert_eq!(seen, CameraMode::ALL);
+    }
+
+    #[test]
+    fn a_fragment_spread_out_of_range_is_replaced_and_named() {
+        for bad in [f32::NAN, -0.1, 11.0] {
+            let mut settings = SandboxSettings {
+                fragment_spread: bad,
+                ..SandboxSettings::default()
+            };
+            assert_eq!(settings.sanitize(), ["fragment_spread"], "{bad}");
+            assert_eq!(settings.fragment_spread, 0.2);
+        }
+        let mut physics = SimulationSettings::default();
+        SandboxSettings {
+            fragment_spread: 0.7,
+            ..SandboxSettings::default()
+        }
+        .apply_physics(&mut physics);
+        assert_eq!(physics.fragment_spread, 0.7, "live");
     }
 }
