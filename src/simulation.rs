@@ -37,9 +37,23 @@ impl Simulation {
         Self { app }
     }
 
-    /// The bodies and settings of `scenario`.
+    /// The bodies and settings of `scenario`; fresh ids continue from its
+    /// `next_id` (a snapshot's).
     pub fn from_scenario(scenario: &Scenario, execution: Execution) -> Result<Self, InputError> {
-        Ok(Self::new(&scenario.bodies()?, scenario.settings(), execution))
+        let mut sim = Self::new(&scenario.bodies()?, scenario.settings(), execution);
+        let mut next = sim.app.world_mut().resource_mut::<NextBodyId>();
+        next.0 = next.0.max(scenario.next_id());
+        Ok(sim)
+    }
+
+    /// The id the next fresh body (a fragment) will get.
+    pub fn next_body_id(&self) -> u64 {
+        self.app.world().resource::<NextBodyId>().0
+    }
+
+    /// The physics settings in force.
+    pub fn settings(&self) -> &SimulationSettings {
+        self.app.world().resource::<SimulationSettings>()
     }
 
     /// Runs `updates` simulation updates.

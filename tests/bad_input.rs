@@ -38,7 +38,7 @@ fn every_malformed_scenario_is_a_clear_error() {
 #[test]
 fn bad_arguments_are_clear_errors() {
     let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
-    let cases: [(&[&str], &str); 11] = [
+    let cases: [(&[&str], &str); 12] = [
         (&["headless", scenario, "--steps", "-5"], "--steps"),
         (&["headless", scenario, "--steps", "ten"], "--steps"),
         (&["headless", scenario], "--steps"),
@@ -59,6 +59,17 @@ fn bad_arguments_are_clear_errors() {
         ),
         (&["headless", scenario, "--steps", "1", "--split", "-5"], "--split"),
         (&["calibrate", "--threads", "0"], "--threads"),
+        (
+            &[
+                "headless",
+                scenario,
+                "--steps",
+                "1",
+                "--save-scenario",
+                "/no/such/folder/s.ron",
+            ],
+            "--save-scenario",
+        ),
     ];
     for (args, needle) in cases {
         let out = kessler().args(args).output().unwrap();

@@ -205,4 +205,8 @@ pub struct HeadlessArgs {
     /// Write the final state as CSV (`id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts`).
     #[arg(long, value_name = "FILE")]
     pub dump: Option<PathBuf>,
+    /// Write the final state as a scenario file: every body with its id, and
+    /// the settings; running on from it continues this run exactly.
+    #[arg(long, value_name = "FILE")]
+    pub save_scenario: Option<PathBuf>,
 }

@@ -11,7 +11,7 @@ use crate::calibration::machine_auto_split;
 use crate::dump;
 use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
 use crate::output::{check_replaceable, write_atomically};
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, Snapshot, write_snapshot};
 use crate::systems::SimulationSystems;
 
 /// Makes the execution the arguments ask for (split policy `auto` with
@@ -28,17 +28,30 @@ pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
     if let Some(path) = &args.dump {
         check_replaceable("--dump", path)?;
     }
-    simulate(&scenario, execution(&args.execution)?, args.steps, args.dump.as_deref())
+    if let Some(path) = &args.save_scenario {
+        check_replaceable("--save-scenario", path)?;
+    }
+    let outputs = Outputs {
+        dump: args.dump.as_deref(),
+        scenario: args.save_scenario.as_deref(),
+    };
+    simulate(&scenario, execution(&args.execution)?, args.steps, outputs)
+}
+
+/// Where a headless run writes its final state, if anywhere.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Outputs<'a> {
+    /// The CSV dump (`--dump`).
+    pub dump: Option<&'a Path>,
+    /// The snapshot scenario (`--save-scenario`).
+    pub scenario: Option<&'a Path>,
 }
 
 /// Runs `updates` updates of `scenario` with a progress bar on a terminal,
-/// prints a one-line summary, and writes the dump if asked.
-pub fn simulate(
-    scenario: &Scenario,
-    execution: Execution,
-    updates: u64,
-    dump_path: Option<&Path>,
-) -> Result<(), Failure> {
+/// prints a one-line summary, and writes the dump and the snapshot if
+/// asked.
+pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs: Outputs<'_>) -> Result<(), Failure> {
+    let dump_path = outputs.dump;
     let (mode, threads) = (execution.mode(), execution.threads_used());
     let split = match (mode, execution.split()) {
         (ExecutionMode::Sequential, _) => String::new(),
@@ -62,6 +75,18 @@ pub fn simulate(
         let bodies = sim.snapshot();
         write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure::other(format!("--dump {e}")))?;
     }
+    if let Some(path) = outputs.scenario {
+        let bodies = sim.snapshot();
+        let snapshot = Snapshot {
+            name: &scenario.name,
+            updates,
+            settings: sim.settings(),
+            bodies: &bodies,
+            next_id: sim.next_body_id(),
+        };
+        write_atomically(path, |w| write_snapshot(&snapshot, w))
+            .map_err(|e| Failure::other(format!("--save-scenario {e}")))?;
+    }
     let per_update_ms = if updates == 0 {
         0.0
     } else {
@@ -83,9 +108,10 @@ pub fn simulate(
         per_update_ms,
         stages.join(", "),
         if threads == 1 { "" } else { "s" },
-        dump_path
-            .map(|p| format!("; state written to {}", p.display()))
-            .unwrap_or_default(),
+        [("state", dump_path), ("scenario", outputs.scenario)]
+            .iter()
+            .filter_map(|(what, path)| path.map(|p| format!("; {what} written to {}", p.display())))
+            .collect::<String>(),
     );
     Ok(())
 }

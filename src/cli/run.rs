@@ -39,7 +39,7 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
     let execution = Execution::all_cores(mode)?
         .with_split(args.split.unwrap_or_default())
         .with_auto_split(crate::calibration::machine_auto_split());
-    super::headless::simulate(&scenario, execution, RUN_UPDATES, None)
+    super::headless::simulate(&scenario, execution, RUN_UPDATES, super::headless::Outputs::default())
 }
 
 /// Runs the command: opens the window.

@@ -47,7 +47,13 @@ pub struct Scenario {
     /// Seed of the generators and of the fragments' spread; default 1.
     #[serde(default = "defaults::seed")]
     pub seed: u64,
-    /// Explicitly placed bodies, ids 0, 1, 2… in file order.
+    /// The first id fresh bodies (fragments) get; default: one past the
+    /// highest id. Snapshots set it, so that a continued run hands out the
+    /// same ids as the run it was saved from.
+    #[serde(default)]
+    pub next_id: Option<u64>,
+    /// Explicitly placed bodies: ids 0, 1, 2… in file order, or each its
+    /// own `id` (all of them or none).
     #[serde(default)]
     pub bodies: Vec<Body>,
     /// Seeded random bodies, ids after the explicit ones.
@@ -59,6 +65,9 @@ pub struct Scenario {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Body")]
 pub struct Body {
+    /// The body's id (snapshots); default: its place in the list.
+    #[serde(default)]
+    pub id: Option<u64>,
     /// Center of the box; required.
     #[serde(deserialize_with = "checked::position")]
     pub position: [f32; 3],

@@ -110,6 +110,7 @@ mod tests {
 
     fn planet() -> Body {
         Body {
+            id: None,
             position: [0.0; 3],
             velocity: [0.0; 3],
             half_extents: [10.0; 3],

@@ -18,7 +18,11 @@ impl Scenario {
     /// Parses RON text; `origin` names it in errors (usually the path) and
     /// becomes [`Scenario::origin`].
     pub fn parse(text: &str, origin: &str) -> Result<Self, InputError> {
-        let mut scenario: Self = parse_ron(text, origin, Extensions::UNWRAP_VARIANT_NEWTYPES)?;
+        let mut scenario: Self = parse_ron(
+            text,
+            origin,
+            Extensions::UNWRAP_VARIANT_NEWTYPES | Extensions::IMPLICIT_SOME,
+        )?;
         scenario.origin = origin.to_owned();
         scenario.check()?;
         Ok(scenario)
@@ -38,6 +42,7 @@ impl Scenario {
                 })?;
             }
         }
+        self.check_ids()?;
         let total = self.body_count();
         if total > MAX_BODIES {
             return Err(InputError::new(
@@ -46,6 +51,54 @@ impl Scenario {
             ));
         }
         Ok(())
+    }
+
+    /// Explicit ids: on every body or on none, each used once, and below
+    /// `next_id`.
+    fn check_ids(&self) -> Result<(), InputError> {
+        let error = |message: String| Err(InputError::new(&self.origin, message));
+        let given = self.bodies.iter().filter(|b| b.id.is_some()).count();
+        if given != 0 && given != self.bodies.len() {
+            let missing = self.bodies.iter().position(|b| b.id.is_none()).unwrap_or(0);
+            return error(format!(
+                "field `bodies[{missing}].id`: missing; give every body an id or none ({given} of {} have one)",
+                self.bodies.len()
+            ));
+        }
+        let mut seen = std::collections::HashMap::new();
+        for (i, id) in self.bodies.iter().filter_map(|b| b.id).enumerate() {
+            if let Some(first) = seen.insert(id, i) {
+                return error(format!(
+                    "field `bodies[{i}].id`: {id} is the id of bodies[{first}] already"
+                ));
+            }
+        }
+        if let Some(next) = self.next_id
+            && next < self.first_generated_id()
+        {
+            return error(format!(
+                "field `next_id`: must be above every body's id ({} at least), got {next}",
+                self.first_generated_id()
+            ));
+        }
+        Ok(())
+    }
+
+    /// The id of the first generated body: one past the highest explicit id.
+    fn first_generated_id(&self) -> u64 {
+        self.bodies
+            .iter()
+            .enumerate()
+            .map(|(i, b)| b.id.unwrap_or(i as u64) + 1)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// The id the first fresh body (a fragment) gets: `next_id`, else one
+    /// past every body's id.
+    pub fn next_id(&self) -> u64 {
+        let past_all = self.first_generated_id() + self.generators.iter().map(Generator::count).sum::<u64>();
+        self.next_id.unwrap_or(past_all).max(past_all)
     }
 
     /// A shell's radii and source: the field at fault and the problem.
@@ -99,12 +152,13 @@ impl Scenario {
         self.bodies.len() as u64 + generated
     }
 
-    /// All bodies: explicit ones with ids 0, 1, 2… in file order, then the
-    /// generated ones.
+    /// All bodies: explicit ones with their ids (0, 1, 2… in file order
+    /// where none are given), then the generated ones, numbered on from one
+    /// past the highest explicit id.
     pub fn bodies(&self) -> Result<Vec<BodyState>, InputError> {
         let mut out = Vec::with_capacity(usize::try_from(self.body_count()).unwrap_or(0));
         out.extend(self.bodies.iter().enumerate().map(|(i, b)| BodyState {
-            id: BodyId(i as u64),
+            id: BodyId(b.id.unwrap_or(i as u64)),
             position: Vec3::from_array(b.position),
             velocity: Vec3::from_array(b.velocity),
             mass: b.mass,
@@ -112,9 +166,9 @@ impl Scenario {
             role: b.role,
             interacts: b.interacts,
         }));
+        let mut first_id = self.first_generated_id();
         for (i, generator) in self.generators.iter().enumerate() {
             let mut rng = Rng::stream(self.seed, i as u64);
-            let first_id = out.len() as u64;
             match generator {
                 Generator::Cloud(c) => generators::cloud(c, &mut rng, first_id, &self.bodies, &mut out)
                     .map_err(|e| InputError::new(&self.origin, format!("generators[{i}] (Cloud): {e}")))?,
@@ -130,6 +184,7 @@ impl Scenario {
                     );
                 }
             }
+            first_id += generator.count();
         }
         Ok(out)
     }

@@ -7,8 +7,10 @@ mod format;
 pub mod generators;
 mod load;
 mod scale;
+mod snapshot;
 
 pub use builtin::*;
 pub use checked::{MAX_BODIES, MAX_FRAGMENTS};
 pub use format::*;
 pub use scale::NoGenerators;
+pub use snapshot::*;

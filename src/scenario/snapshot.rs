@@ -1,0 +1,168 @@
+//! Snapshots: the running state written as a scenario file that every
+//! command loads (`kessler headless --save-scenario`). Every body is
+//! explicit, with its id; `next_id` keeps the ids fresh bodies will get, so
+//! a run continued from the file is the run it was saved from, bit for bit
+//! (docs/design.md, "Scenario files").
+
+use std::io::{self, Write};
+
+use crate::components::BodyState;
+use crate::resources::SimulationSettings;
+
+/// What a snapshot holds.
+#[derive(Clone, Copy, Debug)]
+pub struct Snapshot<'a> {
+    /// The scenario's name.
+    pub name: &'a str,
+    /// Updates run so far (said in the file's first line).
+    pub updates: u64,
+    /// The physics in force.
+    pub settings: &'a SimulationSettings,
+    /// Every body, sorted by id.
+    pub bodies: &'a [BodyState],
+    /// The id the next fresh body gets.
+    pub next_id: u64,
+}
+
+/// A vector as RON, each component in the shortest form that reads back
+/// as the same `f32`.
+fn vector(v: bevy::math::Vec3) -> String {
+    format!("({:?}, {:?}, {:?})", v.x, v.y, v.z)
+}
+
+/// Writes `snapshot` as a scenario file.
+pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Result<()> {
+    let s = snapshot.settings;
+    let name = ron::to_string(snapshot.name).map_err(io::Error::other)?;
+    writeln!(
+        out,
+        "// A snapshot of {name} after {} updates, written by Kessler: every body with its id.",
+        snapshot.updates
+    )?;
+    writeln!(out, "Scenario(")?;
+    writeln!(out, "    name: {name},")?;
+    writeln!(out, "    gravitational_constant: {:?},", s.gravitational_constant)?;
+    writeln!(out, "    time_step: {:?},", s.time_step)?;
+    writeln!(out, "    softening: {:?},", s.softening)?;
+    writeln!(out, "    shatter_threshold: {:?},", s.shatter_threshold)?;
+    writeln!(out, "    shatter_fragments: {},", s.shatter_fragments)?;
+    writeln!(out, "    fragment_spread: {:?},", s.fragment_spread)?;
+    writeln!(out, "    seed: {},", s.seed)?;
+    writeln!(out, "    next_id: {},", snapshot.next_id)?;
+    writeln!(out, "    bodies: [")?;
+    for b in snapshot.bodies {
+        writeln!(
+            out,
+            "        Body(id: {}, position: {}, velocity: {}, half_extents: {}, mass: {:?}, role: {:?}, interacts: {}),",
+            b.id.0,
+            vector(b.position),
+            vector(b.velocity),
+            vector(b.half_extents),
+            b.mass,
+            b.role,
+            b.interacts
+        )?;
+    }
+    writeln!(out, "    ],")?;
+    writeln!(out, ")")?;
+    out.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use bevy::math::Vec3;
+
+    use super::*;
+    use crate::components::{BodyId, GravityRole};
+    use crate::scenario::Scenario;
+
+    #[test]
+    fn a_snapshot_reads_back_bit_for_bit() {
+        let bodies = [
+            BodyState {
+                id: BodyId(4),
+                position: Vec3::new(0.1, -2.0e-30, 1e20),
+                velocity: Vec3::new(0.81694555, -0.0, f32::MIN_POSITIVE),
+                mass: 4000.0,
+                half_extents: Vec3::new(430.0, 1e-3, 7.25),
+                role: GravityRole::SourceAndAdopter,
+                interacts: false,
+            },
+            BodyState {
+                id: BodyId(9),
+                position: Vec3::new(1.0 / 3.0, 2.0, 3.0),
+                velocity: Vec3::ZERO,
+                mass: 0.1,
+                half_extents: Vec3::ONE,
+                role: GravityRole::Adopter,
+                interacts: true,
+            },
+        ];
+        let settings = SimulationSettings {
+            softening: 0.3,
+            fragment_spread: 0.7,
+            seed: u64::MAX,
+            ..SimulationSettings::default()
+        };
+        let snapshot = Snapshot {
+            name: "a \"quoted\" name",
+            updates: 12,
+            settings: &settings,
+            bodies: &bodies,
+            next_id: 15,
+        };
+        let mut text = Vec::new();
+        write_snapshot(&snapshot, &mut text).unwrap();
+        let text = String::from_utf8(text).unwrap();
+        let scenario = Scenario::parse(&text, "snapshot").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(scenario.name, "a \"quoted\" name");
+        assert_eq!(scenario.settings(), settings);
+        assert_eq!(scenario.next_id(), 15);
+        let read = scenario.bodies().unwrap();
+        let bits = |b: &BodyState| {
+            (
+                b.id,
+                [b.position, b.velocity, b.half_extents].map(|v| v.to_array().map(f32::to_bits)),
+                b.mass.to_bits(),
+                b.role,
+                b.interacts,
+            )
+        };
+        assert_eq!(
+            read.iter().map(bits).collect::<Vec<_>>(),
+            bodies.iter().map(bits).collect::<Vec<_>>()
+        );
+    }
+
+    #[test]
+    fn explicit_ids_are_all_or_none_unique_and_below_next_id() {
+        let errors = [
+            (
+                "Scenario(bodies: [Body(id: 1, position: (0, 0, 0)), Body(position: (5, 0, 0))])",
+                "bodies[1].id",
+            ),
+            (
+                "Scenario(bodies: [Body(id: 1, position: (0, 0, 0)), Body(id: 1, position: (5, 0, 0))])",
+                "already",
+            ),
+            (
+                "Scenario(next_id: 1, bodies: [Body(id: 3, position: (0, 0, 0))])",
+                "next_id",
+            ),
+        ];
+        for (text, needle) in errors {
+            let e = Scenario::parse(text, "ids.ron").unwrap_err().to_string();
+            assert!(e.contains(needle) && e.contains("ids.ron"), "{e}");
+        }
+        // Generated bodies follow the highest explicit id.
+        let s = Scenario::parse(
+            "Scenario(bodies: [Body(id: 7, position: (0, 0, 0), mass: 5, role: Source, interacts: false)], \
+             generators: [Shell(count: 3, around: 0, inner_radius: 50, outer_radius: 60)])",
+            "t",
+        )
+        .unwrap();
+        let ids: Vec<u64> = s.bodies().unwrap().iter().map(|b| b.id.0).collect();
+        assert_eq!(ids, [7, 8, 9, 10]);
+        assert_eq!(s.next_id(), 11);
+    }
+}
