@@ -21,6 +21,7 @@ use super::scene::{SandboxState, ScenePlugin};
 use super::selection::SelectionPlugin;
 use super::sets::SandboxSystems;
 use super::settings_file::SettingsFilePlugin;
+use super::snapshot_save::SnapshotSavePlugin;
 use super::startup::Start;
 use super::window_options::{WindowError, WindowOptions};
 use crate::execution::Execution;
@@ -93,6 +94,7 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
             record_all: options.frames.is_some(),
         },
         SettingsFilePlugin,
+        SnapshotSavePlugin,
     ));
     if let Some(frames) = options.frames {
         let mut run = ScriptedRun::new(frames, options.screenshot.clone());

@@ -25,6 +25,7 @@ pub mod selection;
 pub mod sets;
 pub mod settings;
 pub mod settings_file;
+pub mod snapshot_save;
 pub mod startup;
 mod window_options;
 

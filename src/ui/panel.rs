@@ -10,6 +10,7 @@ use super::scene::SandboxState;
 use super::selection::{Selection, selected_info};
 use super::sets::SandboxSystems;
 use super::settings::{CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODY_COUNT, SPEED_RANGE, SandboxSettings, UPS_RANGE};
+use super::snapshot_save::SnapshotSave;
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, available_threads};
@@ -54,6 +55,8 @@ fn panel(
     keys: Res<ButtonInput<KeyCode>>,
     mut path_field: Local<PathField>,
     mut files: Local<Option<Vec<PathBuf>>>,
+    mut save: ResMut<SnapshotSave>,
+    mut save_field: Local<SaveField>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     if !ctx.egui_wants_keyboard_input() {
@@ -89,6 +92,7 @@ fn panel(
                 physics(ui, &mut edited);
                 ui.separator();
                 scene(ui, &mut edited, &mut state, &mut path_field.0, &mut files);
+                save_scenario(ui, &mut save, &mut save_field.0);
                 ui.separator();
                 rendering(ui, &mut edited);
                 ui.separator();
@@ -226,6 +230,39 @@ fn scene(
     }
     if let Some(error) = &state.error {
         ui.colored_label(egui::Color32::from_rgb(255, 110, 110), error);
+    }
+}
+
+/// The snapshot file name the panel offers, edited in place.
+struct SaveField(String);
+
+impl Default for SaveField {
+    fn default() -> Self {
+        Self("snapshot.ron".into())
+    }
+}
+
+/// "Save scenario…": the running state to a new scenario file.
+fn save_scenario(ui: &mut egui::Ui, save: &mut SnapshotSave, field: &mut String) {
+    ui.horizontal(|ui| {
+        ui.add(egui::TextEdit::singleline(field).desired_width(150.0));
+        let button = ui
+            .add_enabled(!field.trim().is_empty(), egui::Button::new("Save scenario…"))
+            .on_hover_text(
+                "every body and setting now, as a scenario file any command loads (never over an existing file)",
+            );
+        if button.clicked() {
+            save.requested = Some(PathBuf::from(field.trim()));
+        }
+    });
+    match &save.outcome {
+        Some(Ok(done)) => {
+            ui.small(done);
+        }
+        Some(Err(e)) => {
+            ui.colored_label(egui::Color32::from_rgb(255, 110, 110), e);
+        }
+        None => {}
     }
 }
 
