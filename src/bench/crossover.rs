@@ -57,11 +57,6 @@ fn series(passes: &[Vec<RunResult>], select: impl Fn(&RunResult) -> bool) -> BTr
         .collect()
 }
 
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values.get(values.len().saturating_sub(1) / 2).copied().unwrap_or(0.0)
-}
-
 /// The time of `stage` (or `update`) in `r`.
 fn time_of(r: &RunResult, stage: &str) -> f64 {
     times_by_stage(r).find(|(s, _)| *s == stage).map_or(0.0, |(_, t)| t)
@@ -72,19 +67,12 @@ fn fastest_of(passes: &[RunResult], stage: &str) -> f64 {
     passes.iter().map(|r| time_of(r, stage)).fold(f64::INFINITY, f64::min)
 }
 
-/// Median time of `stage` over passes.
-fn median_of(passes: &[RunResult], stage: &str) -> f64 {
-    median(passes.iter().map(|r| time_of(r, stage)).collect())
-}
-
 /// When split counts as faster than whole at one body count.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Wins {
     /// In every pass (each pass ran both, one after the other): the
     /// report's strict reading.
     EveryPass,
-    /// In the median of the passes.
-    Median,
     /// In the fastest pass of each: the calibration's, which disturbed
     /// passes do not move.
     Fastest,
@@ -100,7 +88,6 @@ impl Wins {
                 .iter()
                 .zip(whole)
                 .all(|(s, w)| time_of(s, stage) < time_of(w, stage)),
-            Self::Median => median_of(split, stage) < median_of(whole, stage),
             Self::Fastest => fastest_of(split, stage) < fastest_of(whole, stage),
         }
     }
@@ -234,12 +221,6 @@ mod tests {
         let found = crossovers(&all, Wins::EveryPass);
         let update = found.iter().find(|c| c.stage == "update").unwrap();
         assert_eq!(update.from_bodies, Some(2000));
-        // By median, 1000 wins too (90 against 100).
-        let by_median = crossovers(&all, Wins::Median);
-        assert_eq!(
-            by_median.iter().find(|c| c.stage == "update").unwrap().from_bodies,
-            Some(100)
-        );
         assert_eq!((update.threads, update.counts), (2, 4));
         // Auto at 100: 11 against the better 9 → 22 % over; at 5000: 10 %
         // (fastest passes: all passes are equal here but at 1000).
@@ -271,7 +252,7 @@ mod tests {
         assert_eq!((update.from_bodies, update.auto_worst), (None, None));
         assert_eq!(update.row(), "update,2,,2,,");
         assert!(
-            crossovers(&all[..2], Wins::Median).is_empty(),
+            crossovers(&all[..2], Wins::EveryPass).is_empty(),
             "no Always runs: nothing to say"
         );
     }

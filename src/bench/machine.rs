@@ -39,6 +39,15 @@ pub fn machine_report(command: &str) -> String {
     out
 }
 
+/// This machine's CPU model (its architecture if unknown).
+pub fn this_cpu() -> String {
+    cpu_of(&std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default())
+}
+
+fn cpu_of(cpuinfo: &str) -> String {
+    cpu_model(cpuinfo).unwrap_or_else(|| std::env::consts::ARCH.to_owned())
+}
+
 /// `model name` of the first processor in `/proc/cpuinfo`.
 fn cpu_model(cpuinfo: &str) -> Option<String> {
     cpuinfo
@@ -94,7 +103,7 @@ fn os_name() -> String {
 }
 
 /// Now as `YYYY-MM-DD HH:MM:SS UTC`.
-fn utc_now() -> String {
+pub fn utc_now() -> String {
     let secs = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs());
     let (days, rest) = (secs / 86_400, secs % 86_400);
     let (y, m, d) = civil_from_days(days as i64);

@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use super::config::RenderRun;
-use crate::draw_method::DrawMethod;
 
 /// Frames a window run draws before it starts timing (pipelines compile,
 /// buffers fill).
@@ -129,11 +128,6 @@ pub fn child_args(run: &RenderRun, scenario: Option<&Path>, report: &Path, setti
     if let Some(path) = scenario {
         args.push(path.display().to_string());
     }
-    let method = match run.method {
-        DrawMethod::Instanced => "instanced",
-        DrawMethod::SharedMesh => "shared-mesh",
-        DrawMethod::MeshPerBody => "mesh-per-body",
-    };
     args.extend(
         [
             "--bodies",
@@ -141,7 +135,7 @@ pub fn child_args(run: &RenderRun, scenario: Option<&Path>, report: &Path, setti
             "--frames",
             &(run.frames + WINDOW_WARMUP_FRAMES).to_string(),
             "--render",
-            method,
+            run.method.name(),
             "--vsync",
             if run.vsync { "on" } else { "off" },
             "--mode",
@@ -191,6 +185,7 @@ pub fn measure_render(run: &RenderRun, scenario: Option<&Path>) -> Result<FrameR
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::draw_method::DrawMethod;
     use crate::execution::ExecutionMode;
 
     fn run() -> RenderRun {

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use super::Calibration;
 use crate::bench::{
-    Crossover, Run, RunDefaults, RunError, RunResult, Stages, Wins, crossovers, machine_report, measure,
+    Crossover, Run, RunDefaults, RunError, RunResult, Stages, Wins, crossovers, measure, this_cpu, utc_now,
 };
 use crate::execution::{ExecutionMode, SplitPolicy};
 use crate::scenario::Scenario;
@@ -69,11 +69,10 @@ pub fn calibrate(threads: usize, mut progress: impl FnMut(usize, usize)) -> Resu
             progress(pass * runs.len() + i + 1, total);
         }
     }
-    let (date, cpu) = machine_facts();
     Ok(Calibration {
         threads,
-        date,
-        cpu,
+        date: utc_now(),
+        cpu: this_cpu(),
         split_from: split_counts(&passes),
     })
 }
@@ -91,18 +90,6 @@ fn split_counts(passes: &[Vec<RunResult>]) -> BTreeMap<String, u64> {
         .filter(|c| c.stage != "update")
         .map(|c| (c.stage.to_owned(), from(c).min(update)))
         .collect()
-}
-
-/// The machine report's facts for the calibration file.
-fn machine_facts() -> (String, String) {
-    let report = machine_report("");
-    let fact = |key: &str| {
-        report
-            .lines()
-            .find_map(|l| l.strip_prefix(key))
-            .map_or_else(String::new, |v| v.trim().to_owned())
-    };
-    (fact("date:"), fact("cpu:"))
 }
 
 #[cfg(test)]

@@ -23,9 +23,10 @@ const EMPTY_STEP_THREADS: [usize; 2] = [1, 2];
 /// Runs the command: load and check everything, measure, write.
 pub fn bench(config_path: &Path, out: &Path, split: SplitPolicy) -> Result<(), Failure> {
     let config = BenchConfig::load(config_path)?;
+    // (A build without the window refused `Render` runs as it loaded.)
+    #[cfg(feature = "gui")]
     if let Some((i, _)) = config.render_runs().next()
-        && cfg!(target_os = "linux")
-        && std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty())
+        && crate::ui::startup::no_display()
     {
         return Err(Failure::input(format!(
             "{}: runs[{i}]: `Render` runs open the window, and there is no X11 display (DISPLAY is not set): \

@@ -71,12 +71,16 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
     progress.finish_and_clear();
     let elapsed = start.elapsed();
 
+    // The final state, gathered once for whichever outputs want it.
+    let bodies = if dump_path.is_some() || outputs.scenario.is_some() {
+        sim.snapshot()
+    } else {
+        Vec::new()
+    };
     if let Some(path) = dump_path {
-        let bodies = sim.snapshot();
         write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure::other(format!("--dump {e}")))?;
     }
     if let Some(path) = outputs.scenario {
-        let bodies = sim.snapshot();
         let snapshot = Snapshot {
             name: &scenario.name,
             updates,

@@ -13,7 +13,7 @@ use super::frame_stats::{FrameStats, summarize};
 use super::gpu_memory::GpuMemory;
 use super::instance_slot::InstancedBodies;
 use super::settings::SandboxSettings;
-use crate::bench::FrameReport;
+use crate::bench::{FrameReport, peak_memory};
 use crate::components::BodyId;
 use crate::draw_method::DrawMethod;
 use crate::output::{write_atomically, write_png};
@@ -165,7 +165,7 @@ fn report_frames(
             mean_ms: summary.as_ref().map_or(0.0, |s| s.mean_ms),
             p95_ms: summary.as_ref().map_or(0.0, |s| s.p95_ms),
             updates_per_second: ups,
-            peak_ram_bytes: peak_resident_bytes().unwrap_or(0),
+            peak_ram_bytes: peak_memory().unwrap_or(0),
             gpu_bytes: gpu.bytes,
             gpu_reserved_bytes: gpu.reserved,
             gpu_source: gpu.source,
@@ -191,18 +191,4 @@ fn report_frames(
             stats.all.len()
         ),
     }
-}
-
-/// Peak resident memory of this process (`VmHWM`), bytes; Linux only.
-fn peak_resident_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let kib: u64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse()
-        .ok()?;
-    Some(kib * 1024)
 }

@@ -93,8 +93,13 @@ fn check_screenshot(options: &WindowOptions) -> Result<(), WindowError> {
 /// The window is X11-only (the lean build leaves Wayland out): without a
 /// display, say so instead of letting the event loop panic.
 fn check_display() -> Result<(), WindowError> {
-    if cfg!(target_os = "linux") && std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
+    if no_display() {
         return Err(WindowError::NoDisplay);
     }
     Ok(())
+}
+
+/// True where the window cannot open: Linux without an X11 display.
+pub fn no_display() -> bool {
+    cfg!(target_os = "linux") && std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty())
 }
