@@ -96,6 +96,7 @@ fn response(c: &mut Criterion) {
                 mass: 1.0,
                 half_extents: Vec3::ONE,
                 interacts: true,
+                spherical: false,
             };
             let p = Vec3::new(r(1.0, 1.9), r(-1.0, 1.0), r(-1.0, 1.0));
             let b = ContactBody {
@@ -119,14 +120,16 @@ fn response(c: &mut Criterion) {
 }
 
 fn shatter(c: &mut Criterion) {
-    let body = |id, x: f32, vx| BodyState {
-        id: BodyId(id),
-        position: Vec3::new(x, 0.0, 0.0),
-        velocity: Vec3::new(vx, 0.0, 0.0),
-        mass: 1.0,
-        half_extents: Vec3::ONE,
-        role: GravityRole::Adopter,
-        interacts: true,
+    let body = |id, x: f32, vx| {
+        BodyState::new_box(
+            BodyId(id),
+            Vec3::new(x, 0.0, 0.0),
+            Vec3::new(vx, 0.0, 0.0),
+            1.0,
+            Vec3::ONE,
+            GravityRole::Adopter,
+            true,
+        )
     };
     let (a, b) = (body(0, 0.0, 3.0), body(1, 1.9, -3.0));
     let mut group = c.benchmark_group("kernel_shatter");

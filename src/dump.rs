@@ -53,6 +53,8 @@ mod tests {
             half_extents: Vec3::splat(430.0),
             role: GravityRole::SourceAndAdopter,
             interacts: false,
+            previous: Vec3::ZERO,
+            spherical: true,
         };
         let mut out = Vec::new();
         write_csv(&[body], &mut out).unwrap();

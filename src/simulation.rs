@@ -3,17 +3,20 @@
 
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, Velocity};
+use crate::components::{BodyId, BodyState, BodyStateQuery, Mass, Spherical, Velocity};
 use crate::execution::Execution;
 use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::Scenario;
-use crate::systems::{CollisionStats, SimulationPlugins, StageTimings, run_updates};
+use crate::systems::{CollisionStats, SimulationPlugins, StageTimings, Totals, run_updates};
 
 /// Spawns `bodies` (ids must be unique and unused) and sets the next fresh
 /// id past the highest; returns that id.
 pub fn spawn_bodies(world: &mut World, bodies: &[BodyState]) -> u64 {
-    world.spawn_batch(bodies.iter().map(BodyState::bundle)).for_each(drop);
+    let entities: Vec<Entity> = world.spawn_batch(bodies.iter().map(BodyState::bundle)).collect();
+    for (entity, _) in entities.iter().zip(bodies).filter(|(_, b)| b.spherical) {
+        world.entity_mut(*entity).insert(Spherical);
+    }
     let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
     world.insert_resource(NextBodyId(next));
     next
@@ -78,23 +81,16 @@ impl Simulation {
     /// Every body's state, sorted by id.
     pub fn snapshot(&mut self) -> Vec<BodyState> {
         let world = self.app.world_mut();
-        let mut query = world.query::<(
-            &BodyId,
-            &Position,
-            &Velocity,
-            &Mass,
-            &HalfExtents,
-            &GravityRole,
-            &Interacts,
-        )>();
-        let mut bodies: Vec<BodyState> = query
-            .iter(world)
-            .map(|(id, position, velocity, mass, half_extents, role, interacts)| {
-                BodyState::from_components(id, position, velocity, mass, half_extents, role, interacts)
-            })
-            .collect();
+        let mut query = world.query::<BodyStateQuery>();
+        let mut bodies: Vec<BodyState> = query.iter(world).map(BodyState::from_components).collect();
         bodies.sort_unstable_by_key(|b| b.id);
         bodies
+    }
+
+    /// Mass, kinetic energy and momentum of all bodies now.
+    pub fn totals(&mut self) -> Totals {
+        let world = self.app.world_mut();
+        Totals::of(world.query::<(&Mass, &Velocity)>().iter(world).map(|(m, v)| (m.0, v.0)))
     }
 
     /// Number of bodies now.

@@ -155,12 +155,23 @@ fn window_shows_the_planet_and_the_bodies() {
     colors.dedup();
     assert!(colors.len() > 200, "only {} colors", colors.len());
 
-    // The planet fills the middle of the view: a lit blue sphere.
-    let [r, g, b] = with_bodies.pixel(with_bodies.width / 2, with_bodies.height / 2);
+    // The Earth fills the middle of the view: within 80 pixels of the
+    // center, lit ocean, continents (green or brown) and white (ice,
+    // clouds), each a good share.
+    let (cx, cy) = (with_bodies.width as i64 / 2, with_bodies.height as i64 / 2);
+    let disc: Vec<[u8; 3]> = (-80..=80i64)
+        .flat_map(|dy| (-80..=80i64).map(move |dx| (dx, dy)))
+        .filter(|(dx, dy)| dx * dx + dy * dy <= 80 * 80)
+        .map(|(dx, dy)| without.pixel((cx + dx) as usize, (cy + dy) as usize))
+        .collect();
+    let share =
+        |f: &dyn Fn([u16; 3]) -> bool| disc.iter().filter(|p| f(p.map(u16::from))).count() as f64 / disc.len() as f64;
+    let ocean = share(&|[r, g, b]| b > 60 && b > r + 30 && b > g);
+    let land = share(&|[r, g, b]| g.max(r) > b + 10 && r.max(g).max(b) > 40 && r.min(g).min(b) < 170);
+    let white = share(&|[r, g, b]| r.min(g).min(b) > 170);
     assert!(
-        b > 100 && b > r + 40 && b > g,
-        "center pixel {:?} is not the planet",
-        [r, g, b]
+        ocean > 0.2 && land > 0.05 && white > 0.01,
+        "not the Earth around the center: ocean {ocean:.2}, land {land:.2}, white {white:.2}"
     );
 
     // The bodies: the debris field changes thousands of pixels of the view

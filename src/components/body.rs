@@ -88,6 +88,15 @@ impl GravityRole {
     }
 }
 
+/// Marker: the body collides as a ball, not a box. Its radius is its
+/// [`HalfExtents`] (equal on all three axes), so the broad phase sees the
+/// ball's bounding box and the response tests the ball itself. Only
+/// non-interacting bodies (planets, moons) are balls; a body without the
+/// marker is a box. Bodies are mostly boxes, so the marker lives only on the
+/// few balls and costs the rest nothing.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Spherical;
+
 /// `false` marks an immovable collider (the planet): collisions never move or
 /// shatter it; the other body bounces off. Gravity still moves it if it is an
 /// adopter, and its own velocity still moves it (a moving wall).

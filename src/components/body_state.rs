@@ -2,7 +2,25 @@
 
 use bevy::prelude::*;
 
-use super::{BodyId, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Velocity};
+use bevy::ecs::query::QueryData;
+
+use super::{BodyId, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity};
+
+/// The query data a whole [`BodyState`] is read from.
+pub type BodyStateQuery = (
+    &'static BodyId,
+    &'static Position,
+    &'static PreviousPosition,
+    &'static Velocity,
+    &'static Mass,
+    &'static HalfExtents,
+    &'static GravityRole,
+    &'static Interacts,
+    Has<Spherical>,
+);
+
+/// One body's item of [`BodyStateQuery`].
+pub type BodyComponents<'a> = <BodyStateQuery as QueryData>::Item<'a, 'a>;
 
 /// Everything a body is made of, in one bundle.
 #[derive(Bundle, Clone, Debug)]
@@ -36,19 +54,40 @@ pub struct BodyState {
     pub role: GravityRole,
     /// See [`Interacts`].
     pub interacts: bool,
+    /// See [`PreviousPosition`]; a new body's is its position.
+    pub previous: Vec3,
+    /// True for a ball (see [`Spherical`]), false for a box.
+    pub spherical: bool,
 }
 
 impl BodyState {
-    /// A body's state from its components.
-    pub fn from_components(
-        id: &BodyId,
-        position: &Position,
-        velocity: &Velocity,
-        mass: &Mass,
-        half_extents: &HalfExtents,
-        role: &GravityRole,
-        interacts: &Interacts,
+    /// A box that starts where it is (its previous position is its
+    /// position): what scenarios and shatters create.
+    pub fn new_box(
+        id: BodyId,
+        position: Vec3,
+        velocity: Vec3,
+        mass: f32,
+        half_extents: Vec3,
+        role: GravityRole,
+        interacts: bool,
     ) -> Self {
+        Self {
+            id,
+            position,
+            velocity,
+            mass,
+            half_extents,
+            role,
+            interacts,
+            previous: position,
+            spherical: false,
+        }
+    }
+
+    /// A body's state from its components.
+    pub fn from_components(components: BodyComponents<'_>) -> Self {
+        let (id, position, previous, velocity, mass, half_extents, role, interacts, spherical) = components;
         Self {
             id: *id,
             position: position.0,
@@ -57,15 +96,18 @@ impl BodyState {
             half_extents: half_extents.0,
             role: *role,
             interacts: interacts.0,
+            previous: previous.0,
+            spherical,
         }
     }
 
-    /// The bundle that spawns this body, at rest in its own previous position.
+    /// The bundle that spawns this body (a ball also needs [`Spherical`]:
+    /// [`crate::simulation::spawn_bodies`] adds it).
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {
             id: self.id,
             position: Position(self.position),
-            previous_position: PreviousPosition(self.position),
+            previous_position: PreviousPosition(self.previous),
             velocity: Velocity(self.velocity),
             mass: Mass(self.mass),
             half_extents: HalfExtents(self.half_extents),

@@ -44,6 +44,7 @@ checked_f32! {
     inclination: "finite and between 0 and 180 degrees", |v| (0.0..=180.0).contains(&v);
     speed_jitter: "finite and between 0 and 1", |v| (0.0..=1.0).contains(&v);
     retrograde_fraction: "finite and between 0 and 1", |v| (0.0..=1.0).contains(&v);
+    radius: "finite and > 0", |v| v > 0.0;
 }
 
 checked_vec3! {
@@ -52,6 +53,16 @@ checked_vec3! {
     center: "finite", |_v| true;
     half_extents: "finite and > 0", |v| v > 0.0;
     half_size: "finite and >= 0", |v| v >= 0.0;
+}
+
+/// `previous_position` where given: every component finite.
+pub fn previous_position<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f32; 3]>, D::Error> {
+    vec3_where(d, "previous_position", "finite", |_v| true).map(Some)
+}
+
+/// A body's `half_extents` where given: every component finite and > 0.
+pub fn optional_half_extents<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f32; 3]>, D::Error> {
+    half_extents(d).map(Some)
 }
 
 /// `shatter_fragments`: between 2 and [`MAX_FRAGMENTS`] (0 or 1 fragments

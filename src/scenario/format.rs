@@ -71,12 +71,19 @@ pub struct Body {
     /// Center of the box; required.
     #[serde(deserialize_with = "checked::position")]
     pub position: [f32; 3],
+    /// Where the body was an update ago (snapshots); default: `position`.
+    #[serde(default, deserialize_with = "checked::previous_position")]
+    pub previous_position: Option<[f32; 3]>,
     /// Default (0, 0, 0).
     #[serde(default, deserialize_with = "checked::velocity")]
     pub velocity: [f32; 3],
-    /// Default (1, 1, 1): a unit cube, edge 2.
-    #[serde(default = "defaults::half_extents", deserialize_with = "checked::half_extents")]
-    pub half_extents: [f32; 3],
+    /// A box's half extents; default (1, 1, 1): a unit cube, edge 2. Not
+    /// with `shape: Sphere`, whose size is its radius.
+    #[serde(default, deserialize_with = "checked::optional_half_extents")]
+    pub half_extents: Option<[f32; 3]>,
+    /// `Box` (default) or `Sphere(radius: R)`, for non-interacting bodies.
+    #[serde(default)]
+    pub shape: Shape,
     /// Default 1.
     #[serde(default = "defaults::mass", deserialize_with = "checked::mass")]
     pub mass: f32,
@@ -86,6 +93,31 @@ pub struct Body {
     /// Default true; false makes an immovable collider.
     #[serde(default = "defaults::interacts")]
     pub interacts: bool,
+}
+
+/// What an explicit body collides as.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+pub enum Shape {
+    /// An axis-aligned box of the body's `half_extents`.
+    #[default]
+    Box,
+    /// A ball: planets and moons, which do not interact.
+    Sphere {
+        /// The ball's radius, finite and > 0.
+        #[serde(deserialize_with = "checked::radius")]
+        radius: f32,
+    },
+}
+
+impl Body {
+    /// Half the edge lengths of the body's box: a ball's bounding box, or
+    /// the given ones (default a unit cube).
+    pub fn box_half_extents(&self) -> [f32; 3] {
+        match self.shape {
+            Shape::Box => self.half_extents.unwrap_or_else(defaults::half_extents),
+            Shape::Sphere { radius } => [radius; 3],
+        }
+    }
 }
 
 /// Seeded random bodies. Each generator draws from its own random stream,

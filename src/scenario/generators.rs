@@ -2,7 +2,7 @@
 
 use bevy::math::{DQuat, DVec3, Vec3};
 
-use super::format::{Body, Cloud, Shell, Template};
+use super::format::{Body, Cloud, Shape, Shell, Template};
 use crate::components::{BodyId, BodyState};
 use crate::rng::Rng;
 
@@ -10,24 +10,32 @@ use crate::rng::Rng;
 const PLACEMENT_TRIES: u32 = 1000;
 
 fn body_state(id: u64, position: DVec3, velocity: DVec3, t: &Template) -> BodyState {
-    BodyState {
-        id: BodyId(id),
-        position: position.as_vec3(),
-        velocity: velocity.as_vec3(),
-        mass: t.mass,
-        half_extents: Vec3::from_array(t.half_extents),
-        role: t.role,
-        interacts: t.interacts,
-    }
+    BodyState::new_box(
+        BodyId(id),
+        position.as_vec3(),
+        velocity.as_vec3(),
+        t.mass,
+        Vec3::from_array(t.half_extents),
+        t.role,
+        t.interacts,
+    )
 }
 
 /// True when a box of `half` at `p` touches or overlaps an explicit
-/// non-interacting body.
+/// non-interacting body (its box, or its ball).
 fn inside_obstacle(p: DVec3, half: DVec3, obstacles: &[Body]) -> bool {
     obstacles.iter().filter(|b| !b.interacts).any(|b| {
-        let reach = DVec3::from_array(b.half_extents.map(f64::from)) + half;
-        let d = (p - DVec3::from_array(b.position.map(f64::from))).abs();
-        d.cmple(reach).all()
+        let center = DVec3::from_array(b.position.map(f64::from));
+        match b.shape {
+            Shape::Box => {
+                let reach = DVec3::from_array(b.box_half_extents().map(f64::from)) + half;
+                (p - center).abs().cmple(reach).all()
+            }
+            Shape::Sphere { radius } => {
+                let closest = p + (center - p).clamp(-half, half);
+                closest.distance(center) <= f64::from(radius)
+            }
+        }
     })
 }
 
@@ -112,8 +120,10 @@ mod tests {
         Body {
             id: None,
             position: [0.0; 3],
+            previous_position: None,
             velocity: [0.0; 3],
-            half_extents: [10.0; 3],
+            half_extents: Some([10.0; 3]),
+            shape: Shape::Box,
             mass: 100.0,
             role: GravityRole::Source,
             interacts: false,
@@ -142,6 +152,33 @@ mod tests {
             );
             assert!(b.velocity.abs().max_element() <= 5.0);
         }
+    }
+
+    #[test]
+    fn a_cloud_fills_a_balls_corners_but_not_the_ball() {
+        let ball = Body {
+            shape: Shape::Sphere { radius: 10.0 },
+            half_extents: None,
+            ..planet()
+        };
+        let c = Cloud {
+            count: 2000,
+            center: [0.0; 3],
+            half_size: [12.0; 3],
+            max_speed: 0.0,
+            body: Template {
+                half_extents: [0.5; 3],
+                ..Template::default()
+            },
+        };
+        let mut out = Vec::new();
+        cloud(&c, &mut Rng::new(5), 1, &[ball], &mut out).unwrap();
+        let nearest = |p: Vec3| (p.abs() - Vec3::splat(0.5)).max(Vec3::ZERO).length();
+        assert!(out.iter().all(|b| nearest(b.position) > 10.0), "a cube inside the ball");
+        assert!(
+            out.iter().any(|b| b.position.abs().max_element() < 10.0),
+            "none in the corners of the ball's box, which are free space"
+        );
     }
 
     #[test]

@@ -7,7 +7,7 @@ use bevy::math::Vec3;
 use ron::extensions::Extensions;
 
 use super::checked::MAX_BODIES;
-use super::format::{Generator, Scenario, Shell};
+use super::format::{Generator, Scenario, Shape, Shell};
 use super::generators;
 use crate::components::{BodyId, BodyState};
 use crate::input::{InputError, parse_ron, read_text};
@@ -42,12 +42,34 @@ impl Scenario {
                 })?;
             }
         }
+        self.check_shapes()?;
         self.check_ids()?;
         let total = self.body_count();
         if total > MAX_BODIES {
             return Err(InputError::new(
                 &self.origin,
                 format!("field `generators`: {total} bodies in all would not fit in memory (at most {MAX_BODIES})"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Spheres: only non-interacting bodies, sized by their radius alone.
+    fn check_shapes(&self) -> Result<(), InputError> {
+        for (i, body) in self.bodies.iter().enumerate() {
+            if !matches!(body.shape, Shape::Sphere { .. }) {
+                continue;
+            }
+            let problem = if body.interacts {
+                "a Sphere must be a non-interacting body (`interacts: false`): cubes and fragments are boxes"
+            } else if body.half_extents.is_some() {
+                "a Sphere's size is its radius: leave out `half_extents`"
+            } else {
+                continue;
+            };
+            return Err(InputError::new(
+                &self.origin,
+                format!("field `bodies[{i}].shape`: {problem}"),
             ));
         }
         Ok(())
@@ -157,14 +179,21 @@ impl Scenario {
     /// past the highest explicit id.
     pub fn bodies(&self) -> Result<Vec<BodyState>, InputError> {
         let mut out = Vec::with_capacity(usize::try_from(self.body_count()).unwrap_or(0));
-        out.extend(self.bodies.iter().enumerate().map(|(i, b)| BodyState {
-            id: BodyId(b.id.unwrap_or(i as u64)),
-            position: Vec3::from_array(b.position),
-            velocity: Vec3::from_array(b.velocity),
-            mass: b.mass,
-            half_extents: Vec3::from_array(b.half_extents),
-            role: b.role,
-            interacts: b.interacts,
+        out.extend(self.bodies.iter().enumerate().map(|(i, b)| {
+            let position = Vec3::from_array(b.position);
+            BodyState {
+                previous: b.previous_position.map_or(position, Vec3::from_array),
+                spherical: matches!(b.shape, Shape::Sphere { .. }),
+                ..BodyState::new_box(
+                    BodyId(b.id.unwrap_or(i as u64)),
+                    position,
+                    Vec3::from_array(b.velocity),
+                    b.mass,
+                    Vec3::from_array(b.box_half_extents()),
+                    b.role,
+                    b.interacts,
+                )
+            }
         }));
         let mut first_id = self.first_generated_id();
         for (i, generator) in self.generators.iter().enumerate() {
@@ -218,6 +247,46 @@ mod tests {
             (b.id, b.mass, b.half_extents, b.role, b.interacts),
             (BodyId(1), 1.0, Vec3::ONE, GravityRole::Adopter, true)
         );
+    }
+
+    #[test]
+    fn spheres_are_sized_by_their_radius_and_only_for_non_interacting_bodies() {
+        let s = Scenario::parse(
+            "Scenario(bodies: [
+                Body(position: (0, 0, 0), shape: Sphere(radius: 430), mass: 4000, role: Source, interacts: false),
+                Body(position: (900, 0, 0), previous_position: (899, 0, 0)),
+            ])",
+            "s.ron",
+        )
+        .unwrap();
+        let bodies = s.bodies().unwrap();
+        assert!(bodies[0].spherical && !bodies[1].spherical);
+        assert_eq!(bodies[0].half_extents, Vec3::splat(430.0), "the ball's bounding box");
+        assert_eq!(bodies[0].previous, bodies[0].position, "default: where it is");
+        assert_eq!(bodies[1].previous, Vec3::new(899.0, 0.0, 0.0));
+        for (body, problem) in [
+            ("Body(position: (0, 0, 0), shape: Sphere(radius: 4))", "non-interacting"),
+            (
+                "Body(position: (0, 0, 0), half_extents: (4, 4, 4), shape: Sphere(radius: 4), interacts: false)",
+                "leave out `half_extents`",
+            ),
+            (
+                "Body(position: (0, 0, 0), shape: Sphere(radius: -4), interacts: false)",
+                "`radius`",
+            ),
+            (
+                "Body(position: (0, 0, 0), shape: Sphere(radius: inf), interacts: false)",
+                "`radius`",
+            ),
+            (
+                "Body(position: (0, 0, 0), shape: Ball(radius: 4), interacts: false)",
+                "Ball",
+            ),
+        ] {
+            let e = Scenario::parse(&format!("Scenario(bodies: [{body}])"), "s.ron").unwrap_err();
+            assert!(e.to_string().contains(problem), "{body}: {e}");
+            assert_eq!(e.to_string().lines().count(), 1, "{e}");
+        }
     }
 
     #[test]

@@ -51,13 +51,19 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
     writeln!(out, "    next_id: {},", snapshot.next_id)?;
     writeln!(out, "    bodies: [")?;
     for b in snapshot.bodies {
+        // A ball's size is its radius; a box's, its half extents.
+        let size = if b.spherical {
+            format!("shape: Sphere(radius: {:?})", b.half_extents.x)
+        } else {
+            format!("half_extents: {}", vector(b.half_extents))
+        };
         writeln!(
             out,
-            "        Body(id: {}, position: {}, velocity: {}, half_extents: {}, mass: {:?}, role: {:?}, interacts: {}),",
+            "        Body(id: {}, position: {}, previous_position: {}, velocity: {}, {size}, mass: {:?}, role: {:?}, interacts: {}),",
             b.id.0,
             vector(b.position),
+            vector(b.previous),
             vector(b.velocity),
-            vector(b.half_extents),
             b.mass,
             b.role,
             b.interacts
@@ -87,6 +93,8 @@ mod tests {
                 half_extents: Vec3::new(430.0, 1e-3, 7.25),
                 role: GravityRole::SourceAndAdopter,
                 interacts: false,
+                previous: Vec3::new(0.2, -1.0e-30, 1e20),
+                spherical: false,
             },
             BodyState {
                 id: BodyId(9),
@@ -96,6 +104,19 @@ mod tests {
                 half_extents: Vec3::ONE,
                 role: GravityRole::Adopter,
                 interacts: true,
+                previous: Vec3::new(1.0 / 3.0, 2.0, 3.0),
+                spherical: false,
+            },
+            BodyState {
+                id: BodyId(11),
+                position: Vec3::new(-5.0, 0.5, 0.0),
+                velocity: Vec3::new(0.0, 0.0, -2.983),
+                mass: 50.0,
+                half_extents: Vec3::splat(60.0),
+                role: GravityRole::SourceAndAdopter,
+                interacts: false,
+                previous: Vec3::new(-5.0, 0.5, 2.983),
+                spherical: true,
             },
         ];
         let settings = SimulationSettings {

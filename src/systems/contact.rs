@@ -1,6 +1,8 @@
 //! The collision response's kernel: what happens to one overlapping pair —
 //! a bounce with push-back to first contact, a separation of boxes that
 //! overlapped already, a shatter, or nothing (docs/design.md, "Response").
+//! A box meeting a ball (a planet) is tested against the ball itself and
+//! bounces off its surface ([`respond_to_ball`]).
 
 use bevy::math::DVec3;
 use bevy::prelude::*;
@@ -20,6 +22,9 @@ pub struct ContactBody {
     pub half_extents: Vec3,
     /// False for an immovable collider (the planet).
     pub interacts: bool,
+    /// True for a ball of radius `half_extents.x` (only non-interacting
+    /// bodies are balls).
+    pub spherical: bool,
 }
 
 /// A body's new position and velocity.
@@ -77,6 +82,17 @@ pub fn elastic(m1: f64, v1: f64, m2: f64, v2: f64) -> (f64, f64) {
 pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Outcome {
     if !a.interacts && !b.interacts {
         return Outcome::Ignore;
+    }
+    // A ball never interacts, so its partner is an interacting box.
+    if b.spherical {
+        return respond_to_ball(a, b);
+    }
+    if a.spherical {
+        return match respond_to_ball(b, a) {
+            Outcome::Bounce(mb, ma) => Outcome::Bounce(ma, mb),
+            Outcome::Separate(mb, ma) => Outcome::Separate(ma, mb),
+            other => other,
+        };
     }
     let (pa, pb) = (a.position.as_dvec3(), b.position.as_dvec3());
     let (va, vb) = (a.velocity.as_dvec3(), b.velocity.as_dvec3());
@@ -138,6 +154,54 @@ pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Out
     )
 }
 
+/// A box (`cube`, interacting) against a ball (`ball`, which does not
+/// move in a collision). The box touches the ball when its point nearest the
+/// ball's center is within the radius; a box whose bounding boxes overlap
+/// the ball's but which stays outside the ball (its "corner region") is
+/// ignored. On contact the box is pushed out along the surface normal until
+/// it touches, and, if it was approaching, its velocity relative to the
+/// ball is reflected about that normal (a bounce; a separation otherwise).
+pub fn respond_to_ball(cube: &ContactBody, ball: &ContactBody) -> Outcome {
+    let (p, center) = (cube.position.as_dvec3(), ball.position.as_dvec3());
+    let half = cube.half_extents.as_dvec3();
+    let radius = f64::from(ball.half_extents.x);
+    let nearest = p + (center - p).clamp(-half, half);
+    let distance = nearest.distance(center);
+    if distance >= radius {
+        return Outcome::Ignore;
+    }
+    // Outward normal and the push that makes the box touch the ball: moving
+    // the box by `push` along `normal` moves its nearest point as far.
+    let (normal, push) = if distance > 0.0 {
+        ((nearest - center) / distance, radius - distance)
+    } else {
+        // The ball's center inside the box: out along the line of centers
+        // until the box's nearest face is a radius away.
+        let normal = (p - center).try_normalize().unwrap_or(DVec3::Y);
+        let support = (half * normal.abs()).element_sum();
+        (normal, radius + support - (p - center).dot(normal))
+    };
+    let velocity = cube.velocity.as_dvec3();
+    let ball_velocity = ball.velocity.as_dvec3();
+    let relative = velocity - ball_velocity;
+    let approach = relative.dot(normal);
+    let position = (p + normal * push).as_vec3();
+    if approach < 0.0 {
+        let reflected = relative - 2.0 * approach * normal;
+        let motion = Motion {
+            position,
+            velocity: (ball_velocity + reflected).as_vec3(),
+        };
+        Outcome::Bounce(Some(motion), None)
+    } else {
+        let motion = Motion {
+            position,
+            velocity: cube.velocity,
+        };
+        Outcome::Separate(Some(motion), None)
+    }
+}
+
 /// Pushes the boxes apart along the axis of least overlap (ties: lowest
 /// axis), half each when both interact; velocities unchanged.
 fn separate(a: &ContactBody, b: &ContactBody, overlap: DVec3) -> Outcome {
@@ -178,6 +242,7 @@ mod tests {
             mass,
             half_extents: Vec3::ONE,
             interacts: true,
+            spherical: false,
         }
     }
 
@@ -234,6 +299,7 @@ mod tests {
             mass: 4000.0,
             half_extents: Vec3::splat(10.0),
             interacts: false,
+            spherical: false,
         };
         let mut body = cube(0.5, 2.0, 1.0);
         body.velocity.y = 0.25;
@@ -284,6 +350,7 @@ mod tests {
                 mass: r(0.5, 4.0),
                 half_extents: ha,
                 interacts: true,
+                spherical: false,
             };
             let b = ContactBody {
                 position: Vec3::ZERO,
@@ -292,6 +359,7 @@ mod tests {
                 mass: r(0.5, 4.0),
                 half_extents: hb,
                 interacts: true,
+                spherical: false,
             };
             if let Outcome::Bounce(Some(ma), Some(mb)) = respond(&a, &b, 100.0, 1.0) {
                 let gap = (ma.position - mb.position).abs() - (ha + hb);
@@ -360,5 +428,105 @@ mod tests {
             matches!(respond(&a, &wall, 0.1, 1.0), Outcome::Bounce(..)),
             "walls never shatter"
         );
+    }
+
+    fn ball(radius: f32) -> ContactBody {
+        ContactBody {
+            position: Vec3::ZERO,
+            previous: Vec3::ZERO,
+            velocity: Vec3::ZERO,
+            mass: 4000.0,
+            half_extents: Vec3::splat(radius),
+            interacts: false,
+            spherical: true,
+        }
+    }
+
+    /// Distance from the ball's center (the origin) to the box's nearest point.
+    fn reach(position: Vec3, half: Vec3) -> f32 {
+        (position.abs() - half).max(Vec3::ZERO).length()
+    }
+
+    #[test]
+    fn a_box_in_the_corner_of_a_balls_box_is_left_alone() {
+        // Inside the ball's bounding box (|x|, |y|, |z| < 10 + 1) but 5.3
+        // from the surface.
+        let corner = ContactBody {
+            position: Vec3::splat(9.0),
+            previous: Vec3::splat(9.5),
+            velocity: Vec3::splat(-0.5),
+            ..cube(0.0, 0.0, 1.0)
+        };
+        assert_eq!(respond(&corner, &ball(10.0), 1.0, 1.0), Outcome::Ignore);
+        assert_eq!(respond(&ball(10.0), &corner, 1.0, 1.0), Outcome::Ignore);
+    }
+
+    #[test]
+    fn a_box_hitting_a_ball_touches_it_after_with_its_normal_velocity_reflected() {
+        let mut rng = crate::rng::Rng::new(5);
+        for _ in 0..1000 {
+            let direction = Vec3::new(
+                rng.symmetric(1.0) as f32,
+                rng.symmetric(1.0) as f32,
+                rng.symmetric(1.0) as f32,
+            )
+            .normalize();
+            let half = Vec3::splat(rng.range(0.2, 2.0) as f32);
+            let velocity = -direction * 2.0 + Vec3::new(0.3, -0.2, 0.1);
+            let mut planet = ball(50.0);
+            planet.velocity = Vec3::new(0.0, 0.0, -0.5);
+            // The box's center 0.5 inside the distance at which it would touch.
+            let center_distance = |d: f32| {
+                let p = direction * d;
+                reach(p, half) - 50.0
+            };
+            let (mut lo, mut hi) = (0.0f32, 100.0f32);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if center_distance(mid) < 0.0 { lo = mid } else { hi = mid }
+            }
+            let body = ContactBody {
+                position: direction * (lo - 0.5),
+                previous: direction * (lo - 0.5) - velocity,
+                velocity,
+                half_extents: half,
+                ..cube(0.0, 0.0, 1.0)
+            };
+            let (Some(m), None) = bounce(respond(&body, &planet, 0.0, 1.0)) else {
+                panic!("the ball does not move");
+            };
+            let gap = reach(m.position, half) - 50.0;
+            assert!(gap.abs() < 1e-3, "touching after the push: gap {gap}");
+            // The normal at the contact: from the center to the nearest point.
+            let nearest = m.position + (-m.position).clamp(-half, half);
+            let normal = nearest.normalize();
+            let (before, after) = (velocity - planet.velocity, m.velocity - planet.velocity);
+            assert!(
+                (after.dot(normal) + before.dot(normal)).abs() < 1e-4,
+                "normal velocity reflected"
+            );
+            let tangential = |v: Vec3| v - v.dot(normal) * normal;
+            assert!(
+                (tangential(after) - tangential(before)).length() < 1e-4,
+                "tangential kept"
+            );
+        }
+    }
+
+    #[test]
+    fn a_box_leaving_a_ball_is_pushed_out_without_a_bounce() {
+        let body = ContactBody {
+            position: Vec3::new(10.5, 0.0, 0.0),
+            previous: Vec3::new(10.0, 0.0, 0.0),
+            velocity: Vec3::new(0.5, 0.0, 0.0),
+            ..cube(0.0, 0.0, 1.0)
+        };
+        match respond(&ball(12.0), &body, 0.0, 1.0) {
+            Outcome::Separate(None, Some(m)) => {
+                assert_eq!(m.velocity, body.velocity);
+                assert!((m.position.x - 13.0).abs() < 1e-5, "{}", m.position);
+            }
+            other => panic!("expected a separation, got {other:?}"),
+        }
     }
 }

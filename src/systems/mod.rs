@@ -11,6 +11,7 @@ mod schedule;
 mod shatter;
 mod stages;
 mod timings;
+mod totals;
 
 pub use broad_phase::*;
 pub use contact::*;
@@ -22,3 +23,4 @@ pub use schedule::*;
 pub use shatter::*;
 pub use stages::*;
 pub use timings::*;
+pub use totals::*;

@@ -15,7 +15,7 @@ use bevy::prelude::*;
 
 use super::contact::{ContactBody, Outcome, respond};
 use crate::components::{
-    BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Velocity,
+    BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
 };
 use crate::execution::Execution;
 use crate::resources::SimulationSettings;
@@ -58,6 +58,7 @@ impl Plugin for ResponsePlugin {
     }
 }
 
+/// A [`crate::components::BodyStateQuery`] that can move the body.
 type ContactQuery<'w, 's> = Query<
     'w,
     's,
@@ -70,6 +71,7 @@ type ContactQuery<'w, 's> = Query<
         &'static HalfExtents,
         &'static GravityRole,
         &'static Interacts,
+        Has<Spherical>,
     ),
 >;
 
@@ -78,16 +80,16 @@ type ContactQuery<'w, 's> = Query<
 type Matched = ([Entity; 2], [ContactBody; 2], [BodyState; 2]);
 
 fn body_state(query: &ContactQuery, entity: Entity) -> Option<(ContactBody, BodyState)> {
-    let (id, position, previous, velocity, mass, half_extents, role, interacts) = query.get(entity).ok()?;
+    let state = BodyState::from_components(query.get(entity).ok()?);
     let contact = ContactBody {
-        position: position.0,
-        previous: previous.0,
-        velocity: velocity.0,
-        mass: mass.0,
-        half_extents: half_extents.0,
-        interacts: interacts.0,
+        position: state.position,
+        previous: state.previous,
+        velocity: state.velocity,
+        mass: state.mass,
+        half_extents: state.half_extents,
+        interacts: state.interacts,
+        spherical: state.spherical,
     };
-    let state = BodyState::from_components(id, position, velocity, mass, half_extents, role, interacts);
     Some((contact, state))
 }
 

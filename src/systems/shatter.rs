@@ -100,14 +100,16 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u6
         .iter()
         .zip(&spreads)
         .enumerate()
-        .map(|(i, (d, s))| BodyState {
-            id: BodyId(first_id.0 + i as u64),
-            position: (center + *d * radius).as_vec3(),
-            velocity: (velocity + *s - mean_spread).as_vec3(),
-            mass: (total / f64::from(count)) as f32,
-            half_extents: Vec3::splat(half as f32),
-            role,
-            interacts: true,
+        .map(|(i, (d, s))| {
+            BodyState::new_box(
+                BodyId(first_id.0 + i as u64),
+                (center + *d * radius).as_vec3(),
+                (velocity + *s - mean_spread).as_vec3(),
+                (total / f64::from(count)) as f32,
+                Vec3::splat(half as f32),
+                role,
+                true,
+            )
         })
         .collect()
 }
@@ -143,15 +145,15 @@ mod tests {
     use crate::systems::Aabb;
 
     fn body(id: u64, position: [f32; 3], velocity: [f32; 3], mass: f32, half: [f32; 3]) -> BodyState {
-        BodyState {
-            id: BodyId(id),
-            position: Vec3::from_array(position),
-            velocity: Vec3::from_array(velocity),
+        BodyState::new_box(
+            BodyId(id),
+            Vec3::from_array(position),
+            Vec3::from_array(velocity),
             mass,
-            half_extents: Vec3::from_array(half),
-            role: GravityRole::Adopter,
-            interacts: true,
-        }
+            Vec3::from_array(half),
+            GravityRole::Adopter,
+            true,
+        )
     }
 
     #[test]

@@ -5,9 +5,11 @@ use bevy::prelude::*;
 use bevy::window::WindowResolution;
 use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
 
+use super::atmosphere::AtmospherePlugin;
 use super::backdrop::BackdropPlugin;
 use super::camera::CameraPlugin;
 use super::capture::{CapturePlugin, ScriptedRun};
+use super::cascade::CascadePlugin;
 use super::celestials::CelestialsPlugin;
 use super::drive::DrivePlugin;
 use super::frame_stats::FrameStatsPlugin;
@@ -23,6 +25,7 @@ use super::sets::SandboxSystems;
 use super::settings_file::SettingsFilePlugin;
 use super::snapshot_save::SnapshotSavePlugin;
 use super::startup::Start;
+use super::trails::TrailsPlugin;
 use super::window_options::{WindowError, WindowOptions};
 use crate::execution::Execution;
 use crate::systems::SimulationPlugins;
@@ -82,6 +85,7 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         ScenePlugin,
         DrivePlugin,
         BackdropPlugin,
+        AtmospherePlugin,
         CelestialsPlugin,
         InstancingPlugin,
         MeshesPlugin,
@@ -95,7 +99,8 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         },
         SettingsFilePlugin,
         SnapshotSavePlugin,
-    ));
+    ))
+    .add_plugins((CascadePlugin, TrailsPlugin));
     if let Some(frames) = options.frames {
         let mut run = ScriptedRun::new(frames, options.screenshot.clone());
         run.frame_report.clone_from(&options.frame_report);

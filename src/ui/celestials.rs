@@ -1,11 +1,16 @@
 //! The planet and moons — sources that do not collide — drawn as lit
 //! spheres that follow their bodies, each with its collision box, shown on
-//! request.
+//! request. The heaviest is the Earth (generated surface and an atmosphere
+//! rim), the others the Moon.
 
+use bevy::asset::RenderAssetUsages;
 use bevy::prelude::*;
+use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
 use bevy::transform::TransformSystems;
 
+use super::atmosphere::{AtmosphereMaterial, AtmosphereVisual, ring_mesh};
 use super::body_colors::is_celestial;
+use super::planet_texture::{self, Picture};
 use super::settings::SandboxSettings;
 use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Mass, Position};
 
@@ -24,10 +29,42 @@ pub struct CollisionBoxVisual;
 #[derive(Resource, Clone, Debug)]
 pub struct CelestialAssets {
     sphere: Handle<Mesh>,
+    ring: Handle<Mesh>,
     cube: Handle<Mesh>,
     planet: Handle<StandardMaterial>,
     moon: Handle<StandardMaterial>,
+    atmosphere: Handle<AtmosphereMaterial>,
     collision_box: Handle<StandardMaterial>,
+}
+
+/// Turns a UV sphere (poles on ±z) so that its north pole points up (+y),
+/// the axis the default scene's orbits turn around.
+const NORTH_UP: Quat = Quat::from_xyzw(
+    -std::f32::consts::FRAC_1_SQRT_2,
+    0.0,
+    0.0,
+    std::f32::consts::FRAC_1_SQRT_2,
+);
+
+/// The Earth's surface texture width (height: half of it), pixels.
+const EARTH_TEXTURE_WIDTH: u32 = 1024;
+/// The Moon's surface texture width, pixels.
+const MOON_TEXTURE_WIDTH: u32 = 512;
+/// Seed of the generated surfaces (the same world every start).
+const SURFACE_SEED: u32 = 2022;
+
+fn image(picture: Picture) -> Image {
+    Image::new(
+        Extent3d {
+            width: picture.width,
+            height: picture.height,
+            depth_or_array_layers: 1,
+        },
+        TextureDimension::D2,
+        picture.rgba,
+        TextureFormat::Rgba8UnormSrgb,
+        RenderAssetUsages::RENDER_WORLD,
+    )
 }
 
 /// Spheres for new celestial bodies; spheres follow their bodies and go
@@ -49,20 +86,28 @@ fn init_celestial_assets(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
+    mut atmospheres: ResMut<Assets<AtmosphereMaterial>>,
+    mut images: ResMut<Assets<Image>>,
 ) {
+    let earth = images.add(image(planet_texture::earth(EARTH_TEXTURE_WIDTH, SURFACE_SEED)));
+    let moon = images.add(image(planet_texture::moon(MOON_TEXTURE_WIDTH, SURFACE_SEED)));
     commands.insert_resource(CelestialAssets {
         sphere: meshes.add(Sphere::new(1.0).mesh().uv(64, 32)),
+        ring: meshes.add(ring_mesh()),
         cube: meshes.add(Cuboid::new(2.0, 2.0, 2.0)),
         planet: materials.add(StandardMaterial {
-            base_color: Color::srgb(0.18, 0.38, 0.72),
-            perceptual_roughness: 0.7,
+            base_color_texture: Some(earth),
+            perceptual_roughness: 0.8,
+            reflectance: 0.2,
             ..default()
         }),
         moon: materials.add(StandardMaterial {
-            base_color: Color::srgb(0.6, 0.58, 0.55),
+            base_color_texture: Some(moon),
             perceptual_roughness: 0.95,
+            reflectance: 0.1,
             ..default()
         }),
+        atmosphere: atmospheres.add(AtmosphereMaterial::default()),
         collision_box: materials.add(StandardMaterial {
             base_color: Color::srgba(0.4, 0.9, 0.5, 0.12),
             alpha_mode: AlphaMode::Blend,
@@ -109,26 +154,33 @@ fn spawn_celestial_visuals(
         .fold(0.0f32, f32::max);
     for (body, position, half, mass, ..) in added.iter().filter(celestial) {
         let radius = half.0.min_element();
-        let material = if mass.0 >= heaviest {
-            &assets.planet
-        } else {
-            &assets.moon
-        };
-        commands
-            .spawn((
-                Name::new("Celestial"),
-                CelestialVisual { body },
-                Mesh3d(assets.sphere.clone()),
-                MeshMaterial3d(material.clone()),
-                Transform::from_translation(position.0).with_scale(Vec3::splat(radius)),
-            ))
-            .with_child((
-                CollisionBoxVisual,
-                Mesh3d(assets.cube.clone()),
-                MeshMaterial3d(assets.collision_box.clone()),
-                Transform::from_scale(half.0 / radius),
-                Visibility::Hidden,
+        let earth = mass.0 >= heaviest;
+        let material = if earth { &assets.planet } else { &assets.moon };
+        let mut visual = commands.spawn((
+            Name::new("Celestial"),
+            CelestialVisual { body },
+            Mesh3d(assets.sphere.clone()),
+            MeshMaterial3d(material.clone()),
+            Transform::from_translation(position.0)
+                .with_scale(Vec3::splat(radius))
+                .with_rotation(NORTH_UP),
+        ));
+        visual.with_child((
+            CollisionBoxVisual,
+            Mesh3d(assets.cube.clone()),
+            MeshMaterial3d(assets.collision_box.clone()),
+            // Unturned: the box stays axis-aligned in the world.
+            Transform::from_scale(half.0 / radius).with_rotation(NORTH_UP.inverse()),
+            Visibility::Hidden,
+        ));
+        if earth {
+            visual.with_child((
+                AtmosphereVisual,
+                Mesh3d(assets.ring.clone()),
+                MeshMaterial3d(assets.atmosphere.clone()),
+                Transform::default(),
             ));
+        }
     }
 }
 
@@ -168,6 +220,8 @@ mod tests {
         app.add_plugins(MinimalPlugins)
             .init_resource::<Assets<Mesh>>()
             .init_resource::<Assets<StandardMaterial>>()
+            .init_resource::<Assets<AtmosphereMaterial>>()
+            .init_resource::<Assets<Image>>()
             .insert_resource(SandboxSettings::default())
             .add_plugins(CelestialsPlugin);
         crate::simulation::spawn_bodies(app.world_mut(), bodies);
@@ -191,5 +245,11 @@ mod tests {
         app.world_mut().despawn(spheres[0]);
         app.update();
         assert_eq!(visuals(&mut app), [spheres[1]], "a body's sphere goes with it");
+    }
+
+    #[test]
+    fn the_north_pole_points_up() {
+        assert!(NORTH_UP.mul_vec3(Vec3::Z).abs_diff_eq(Vec3::Y, 1e-6));
+        assert!(NORTH_UP.is_normalized());
     }
 }

@@ -4,6 +4,7 @@
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
+use super::cascade::{Cascade, curve_plot};
 use super::clock::UpdateClock;
 use super::frame_stats::{FrameStats, HISTORY};
 use super::scene::SandboxState;
@@ -38,6 +39,7 @@ fn hud(
     settings: Res<SandboxSettings>,
     state: Res<SandboxState>,
     file: Res<SettingsFile>,
+    cascade: Res<Cascade>,
     bodies: Query<(), With<BodyId>>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
@@ -66,6 +68,8 @@ fn hud(
             ui.separator();
             stage_table(ui, &timings);
             stage_plot(ui, &stats);
+            ui.label("Kessler curve");
+            curve_plot(ui, &cascade);
             if let Some(warning) = &file.warning {
                 ui.separator();
                 ui.colored_label(egui::Color32::from_rgb(255, 170, 60), warning);

@@ -3,10 +3,12 @@
 //! (`crate::systems`), driven at a chosen update rate.
 
 mod app;
+pub mod atmosphere;
 pub mod backdrop;
 pub mod body_colors;
 pub mod camera;
 pub mod capture;
+pub mod cascade;
 pub mod celestials;
 pub mod clock;
 pub mod drive;
@@ -19,6 +21,7 @@ pub mod instancing;
 pub mod main_camera;
 pub mod meshes;
 pub mod panel;
+pub mod planet_texture;
 pub mod present_mode;
 pub mod scene;
 pub mod selection;
@@ -27,6 +30,7 @@ pub mod settings;
 pub mod settings_file;
 pub mod snapshot_save;
 pub mod startup;
+pub mod trails;
 mod window_options;
 
 pub use crate::draw_method::DrawMethod;

@@ -6,10 +6,14 @@ use std::path::{Path, PathBuf};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
+use super::cascade::{Cascade, totals_readout};
 use super::scene::SandboxState;
 use super::selection::{Selection, selected_info};
 use super::sets::SandboxSystems;
-use super::settings::{CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODY_COUNT, SPEED_RANGE, SandboxSettings, UPS_RANGE};
+use super::settings::{
+    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODY_COUNT, SPEED_RANGE, SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice,
+    UPS_RANGE,
+};
 use super::snapshot_save::SnapshotSave;
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
@@ -57,6 +61,7 @@ fn panel(
     mut files: Local<Option<Vec<PathBuf>>>,
     mut save: ResMut<SnapshotSave>,
     mut save_field: Local<SaveField>,
+    cascade: Res<Cascade>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     if !ctx.egui_wants_keyboard_input() {
@@ -90,6 +95,7 @@ fn panel(
                 execution(ui, &mut edited);
                 ui.separator();
                 physics(ui, &mut edited);
+                totals_readout(ui, &cascade.totals);
                 ui.separator();
                 scene(ui, &mut edited, &mut state, &mut path_field.0, &mut files);
                 save_scenario(ui, &mut save, &mut save_field.0);
@@ -313,6 +319,21 @@ fn rendering(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     });
     ui.checkbox(&mut settings.vsync, "vsync")
         .on_hover_text("off: draw as fast as possible, as the thesis measured");
+    ui.horizontal(|ui| {
+        ui.label("trails:");
+        egui::ComboBox::from_id_salt("trails")
+            .selected_text(settings.trails.name())
+            .show_ui(ui, |ui| {
+                for choice in TrailChoice::ALL {
+                    ui.selectable_value(&mut settings.trails, choice, choice.name());
+                }
+            });
+    })
+    .response
+    .on_hover_text("the selected body always draws its path");
+    if settings.trails != TrailChoice::Off {
+        ui.add(egui::Slider::new(&mut settings.trail_count, TRAIL_COUNT_RANGE).text("bodies with trails"));
+    }
 }
 
 fn camera(

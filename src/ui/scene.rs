@@ -9,7 +9,7 @@ use super::sets::SandboxSystems;
 use super::settings::SandboxSettings;
 use crate::components::{BodyId, BodyState};
 use crate::input::InputError;
-use crate::resources::SimulationSettings;
+use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{NoGenerators, Scenario};
 use crate::simulation::spawn_bodies;
 use crate::systems::{CollisionStats, OverlappingPairs, StageTimings};
@@ -148,7 +148,9 @@ pub fn restart_scene(world: &mut World) {
     for entity in old {
         world.despawn(entity);
     }
-    let next = spawn_bodies(world, &bodies);
+    // Fresh ids continue from a snapshot's `next_id`, as headless runs do.
+    let next = spawn_bodies(world, &bodies).max(world.resource::<SandboxState>().scenario.next_id());
+    world.insert_resource(NextBodyId(next));
     world.insert_resource(physics);
     *world.resource_mut::<CollisionStats>() = CollisionStats::default();
     world.resource_mut::<OverlappingPairs>().0.clear();

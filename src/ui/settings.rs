@@ -18,6 +18,34 @@ pub const SPEED_RANGE: std::ops::RangeInclusive<f32> = 0.05..=8.0;
 pub const FRAGMENT_SPREAD_RANGE: std::ops::RangeInclusive<f32> = 0.0..=10.0;
 /// Most bodies the panel offers.
 pub const MAX_BODY_COUNT: u64 = 2_000_000;
+/// Fewest and most fragments drawn with a trail.
+pub const TRAIL_COUNT_RANGE: std::ops::RangeInclusive<u32> = 1..=200;
+
+/// Which bodies besides the selected one draw their recent path.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum TrailChoice {
+    /// Only the selected body (no cost for the rest).
+    #[default]
+    Off,
+    /// The fastest bodies that interact.
+    Fastest,
+    /// The fragments born last.
+    Newest,
+}
+
+impl TrailChoice {
+    /// Every choice, in panel order.
+    pub const ALL: [Self; 3] = [Self::Off, Self::Fastest, Self::Newest];
+
+    /// What the panel calls it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Off => "selected only",
+            Self::Fastest => "fastest",
+            Self::Newest => "newest fragments",
+        }
+    }
+}
 
 /// Which camera drives the view.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -100,6 +128,10 @@ pub struct SandboxSettings {
     pub render_method: DrawMethod,
     /// Show the planet's collision box (live).
     pub show_collision_boxes: bool,
+    /// Trails besides the selected body's (live).
+    pub trails: TrailChoice,
+    /// How many bodies [`Self::trails`] picks, in [`TRAIL_COUNT_RANGE`] (live).
+    pub trail_count: u32,
 }
 
 impl Default for SandboxSettings {
@@ -126,6 +158,8 @@ impl Default for SandboxSettings {
             camera: CameraMode::Orbit,
             render_method: DrawMethod::Instanced,
             show_collision_boxes: false,
+            trails: TrailChoice::Off,
+            trail_count: 20,
         }
     }
 }
@@ -162,6 +196,12 @@ impl SandboxSettings {
         if !(self.shatter_threshold.is_finite() && self.shatter_threshold >= 0.0) {
             self.shatter_threshold = SimulationSettings::default().shatter_threshold;
             fixed.push("shatter_threshold");
+        }
+        if !TRAIL_COUNT_RANGE.contains(&self.trail_count) {
+            self.trail_count = self
+                .trail_count
+                .clamp(*TRAIL_COUNT_RANGE.start(), *TRAIL_COUNT_RANGE.end());
+            fixed.push("trail_count");
         }
         if !FRAGMENT_SPREAD_RANGE.contains(&self.fragment_spread) {
             self.fragment_spread = SimulationSettings::default().fragment_spread;

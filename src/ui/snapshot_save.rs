@@ -10,7 +10,7 @@ use bevy::prelude::*;
 use super::clock::UpdateClock;
 use super::scene::SandboxState;
 use super::sets::SandboxSystems;
-use crate::components::{BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, Velocity};
+use crate::components::{BodyState, BodyStateQuery};
 use crate::output::{check_new, write_atomically};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{Snapshot, write_snapshot};
@@ -35,31 +35,18 @@ impl Plugin for SnapshotSavePlugin {
 }
 
 /// The components a body is saved from.
-type SavedBody = (
-    &'static BodyId,
-    &'static Position,
-    &'static Velocity,
-    &'static Mass,
-    &'static HalfExtents,
-    &'static GravityRole,
-    &'static Interacts,
-);
-
 fn save_snapshot(
     mut save: ResMut<SnapshotSave>,
     state: Res<SandboxState>,
     clock: Res<UpdateClock>,
     physics: Res<SimulationSettings>,
     next_id: Res<NextBodyId>,
-    bodies: Query<SavedBody>,
+    bodies: Query<BodyStateQuery>,
 ) {
     let Some(path) = save.requested.take() else {
         return;
     };
-    let mut states: Vec<BodyState> = bodies
-        .iter()
-        .map(|(id, p, v, m, h, r, i)| BodyState::from_components(id, p, v, m, h, r, i))
-        .collect();
+    let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
     states.sort_unstable_by_key(|b| b.id);
     let snapshot = Snapshot {
         name: &state.scenario.name,
