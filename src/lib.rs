@@ -17,6 +17,7 @@ pub mod rng;
 pub mod scenario;
 pub mod simulation;
 pub mod systems;
+pub mod timeline;
 #[cfg(feature = "gui")]
 pub mod ui;
 pub mod user_files;

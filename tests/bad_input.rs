@@ -38,7 +38,7 @@ fn every_malformed_scenario_is_a_clear_error() {
 #[test]
 fn bad_arguments_are_clear_errors() {
     let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
-    let cases: [(&[&str], &str); 12] = [
+    let cases: [(&[&str], &str); 16] = [
         (&["headless", scenario, "--steps", "-5"], "--steps"),
         (&["headless", scenario, "--steps", "ten"], "--steps"),
         (&["headless", scenario], "--steps"),
@@ -69,6 +69,44 @@ fn bad_arguments_are_clear_errors() {
                 "/no/such/folder/s.ron",
             ],
             "--save-scenario",
+        ),
+        (
+            &[
+                "headless",
+                scenario,
+                "--steps",
+                "1",
+                "--timeline",
+                "t.csv",
+                "--every",
+                "0",
+            ],
+            "--every",
+        ),
+        (
+            &[
+                "headless",
+                scenario,
+                "--steps",
+                "1",
+                "--timeline",
+                "t.csv",
+                "--every",
+                "-2",
+            ],
+            "--every",
+        ),
+        (&["headless", scenario, "--steps", "1", "--every", "5"], "--timeline"),
+        (
+            &[
+                "headless",
+                scenario,
+                "--steps",
+                "1",
+                "--timeline",
+                "/no/such/folder/t.csv",
+            ],
+            "--timeline",
         ),
     ];
     for (args, needle) in cases {

@@ -202,6 +202,43 @@ fn totals_keep_mass_and_momentum_through_a_cascade_without_sources() {
     assert!(after.kinetic_energy < before.kinetic_energy, "shatters are inelastic");
 }
 
+/// Two unit cubes meeting at 4 (threshold 3) would make five fragments of
+/// edge 2·∛(2/5) = 1.47. Below a floor above that, or beyond a budget of
+/// four bodies, they bounce instead (velocities swapped), and the refusal
+/// is counted.
+#[test]
+fn shatters_below_the_size_floor_or_over_the_budget_bounce_and_are_counted() {
+    let pair = |limits: &str| {
+        let mut s = sim(&format!(
+            "Scenario(gravitational_constant: 0, {limits} bodies: [
+                Body(position: (-1.5, 0, 0), velocity: (2, 0, 0)),
+                Body(position: (1.5, 0, 0), velocity: (-2, 0, 0)),
+            ])"
+        ));
+        s.step(1);
+        (s.collision_stats(), s.snapshot())
+    };
+    for limits in ["min_fragment_size: 1.5,", "max_bodies: 4,"] {
+        let (stats, bodies) = pair(limits);
+        assert_eq!(
+            (stats.shatters, stats.refused_shatters, stats.refused_total),
+            (0, 1, 1),
+            "{limits}"
+        );
+        assert_eq!(bodies.len(), 2);
+        assert_eq!(
+            (bodies[0].velocity.x, bodies[1].velocity.x),
+            (-2.0, 2.0),
+            "{limits}: a bounce"
+        );
+    }
+    for limits in ["min_fragment_size: 1.4,", "max_bodies: 5,", "min_fragment_size: 0,"] {
+        let (stats, bodies) = pair(limits);
+        assert_eq!((stats.shatters, stats.refused_shatters), (1, 0), "{limits}");
+        assert_eq!(bodies.len(), 5, "{limits}");
+    }
+}
+
 #[test]
 fn a_fast_impact_shatters_keeping_mass_volume_and_momentum() {
     let mut s = sim("Scenario(gravitational_constant: 0, shatter_fragments: 6, bodies: [

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use clap::builder::RangedI64ValueParser;
+use clap::builder::{RangedI64ValueParser, RangedU64ValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::draw_method::DrawMethod;
@@ -209,4 +209,18 @@ pub struct HeadlessArgs {
     /// the settings; running on from it continues this run exactly.
     #[arg(long, value_name = "FILE")]
     pub save_scenario: Option<PathBuf>,
+    /// Write a row every K updates (`--every`) as CSV
+    /// (`update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z`).
+    #[arg(long, value_name = "FILE")]
+    pub timeline: Option<PathBuf>,
+    /// Updates between two timeline rows (needs `--timeline`).
+    #[arg(
+        long,
+        value_name = "K",
+        requires = "timeline",
+        default_value_t = 1,
+        value_parser = RangedU64ValueParser::<u64>::new().range(1..),
+        allow_negative_numbers = true
+    )]
+    pub every: u64,
 }

@@ -13,6 +13,7 @@ use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads}
 use crate::output::{check_replaceable, write_atomically};
 use crate::scenario::{Scenario, Snapshot, write_snapshot};
 use crate::systems::SimulationSystems;
+use crate::timeline::Timeline;
 
 /// Makes the execution the arguments ask for (split policy `auto` with
 /// this machine's calibration).
@@ -31,9 +32,13 @@ pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
     if let Some(path) = &args.save_scenario {
         check_replaceable("--save-scenario", path)?;
     }
+    if let Some(path) = &args.timeline {
+        check_replaceable("--timeline", path)?;
+    }
     let outputs = Outputs {
         dump: args.dump.as_deref(),
         scenario: args.save_scenario.as_deref(),
+        timeline: args.timeline.as_deref().map(|path| (path, args.every)),
     };
     simulate(&scenario, execution(&args.execution)?, args.steps, outputs)
 }
@@ -45,6 +50,8 @@ pub struct Outputs<'a> {
     pub dump: Option<&'a Path>,
     /// The snapshot scenario (`--save-scenario`).
     pub scenario: Option<&'a Path>,
+    /// The timeline (`--timeline`) and the updates between its rows.
+    pub timeline: Option<(&'a Path, u64)>,
 }
 
 /// Runs `updates` updates of `scenario` with a progress bar on a terminal,
@@ -66,8 +73,12 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
             .expect("template is valid")
             .progress_chars("=> "),
     );
+    let mut timeline = outputs.timeline.map(|(_, every)| Timeline::new(every));
     let start = Instant::now();
-    sim.step_reporting(updates, 200, |done| progress.set_position(done));
+    match timeline.as_mut() {
+        Some(timeline) => timeline.run(&mut sim, updates, |done| progress.set_position(done)),
+        None => sim.step_reporting(updates, 200, |done| progress.set_position(done)),
+    }
     progress.finish_and_clear();
     let elapsed = start.elapsed();
 
@@ -79,6 +90,9 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
     };
     if let Some(path) = dump_path {
         write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure::other(format!("--dump {e}")))?;
+    }
+    if let (Some((path, _)), Some(timeline)) = (outputs.timeline, &timeline) {
+        write_atomically(path, |w| timeline.write_csv(w)).map_err(|e| Failure::other(format!("--timeline {e}")))?;
     }
     if let Some(path) = outputs.scenario {
         let snapshot = Snapshot {
@@ -102,20 +116,25 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         .map(|&stage| format!("{} {:.3}", stage.name(), timings.stage(stage).mean_ns / 1e6))
         .collect();
     println!(
-        "{}: {} updates of {} bodies ({} at the end, {} shatters) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}",
+        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}",
         scenario.name,
         updates,
         bodies_start,
         sim.body_count(),
         sim.collision_stats().shatters_total,
+        sim.collision_stats().refused_total,
         elapsed.as_secs_f64(),
         per_update_ms,
         stages.join(", "),
         if threads == 1 { "" } else { "s" },
-        [("state", dump_path), ("scenario", outputs.scenario)]
-            .iter()
-            .filter_map(|(what, path)| path.map(|p| format!("; {what} written to {}", p.display())))
-            .collect::<String>(),
+        [
+            ("state", dump_path),
+            ("scenario", outputs.scenario),
+            ("timeline", outputs.timeline.map(|(path, _)| path))
+        ]
+        .iter()
+        .filter_map(|(what, path)| path.map(|p| format!("; {what} written to {}", p.display())))
+        .collect::<String>(),
     );
     Ok(())
 }

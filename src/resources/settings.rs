@@ -18,6 +18,12 @@ pub struct SimulationSettings {
     /// Fragments' speed away from their center of mass, as a share of the
     /// impact speed (the thesis's "Streuung"), 0 to 10.
     pub fragment_spread: f32,
+    /// Edge length below which fragments are not made: a collision whose
+    /// fragments would be smaller bounces instead. 0: no floor (the thesis).
+    pub min_fragment_size: f32,
+    /// Most bodies there may be: a shatter that would exceed it bounces
+    /// instead.
+    pub max_bodies: u64,
     /// Seed of every random choice the simulation makes (fragment spread).
     pub seed: u64,
     /// Gravity stage on/off. Off: adopters keep their velocity.
@@ -38,6 +44,8 @@ impl SimulationSettings {
         shatter_threshold: 3.0,
         shatter_fragments: 5,
         fragment_spread: 0.2,
+        min_fragment_size: 0.5,
+        max_bodies: 1_000_000,
         seed: 1,
         gravity: true,
         collisions: true,

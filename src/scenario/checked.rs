@@ -45,6 +45,7 @@ checked_f32! {
     speed_jitter: "finite and between 0 and 1", |v| (0.0..=1.0).contains(&v);
     retrograde_fraction: "finite and between 0 and 1", |v| (0.0..=1.0).contains(&v);
     radius: "finite and > 0", |v| v > 0.0;
+    min_fragment_size: "finite and >= 0", |v| v >= 0.0;
 }
 
 checked_vec3! {
@@ -69,6 +70,11 @@ pub fn optional_half_extents<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[
 /// would not conserve volume, or divide by zero).
 pub fn shatter_fragments<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
     whole_between(d, "shatter_fragments", 2, MAX_FRAGMENTS)
+}
+
+/// `max_bodies`: from 1 to [`MAX_BODIES`].
+pub fn max_bodies<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    whole_between(d, "max_bodies", 1, MAX_BODIES)
 }
 
 /// A generator's `count`: at most [`MAX_BODIES`].

@@ -44,6 +44,17 @@ pub struct Scenario {
     /// impact speed (the thesis's "Streuung"), 0 to 10; default 0.2.
     #[serde(default = "defaults::fragment_spread", deserialize_with = "checked::fragment_spread")]
     pub fragment_spread: f32,
+    /// Edge length below which a collision bounces instead of making
+    /// fragments (the fragments' edge counts); default 0.5, 0 for none.
+    #[serde(
+        default = "defaults::min_fragment_size",
+        deserialize_with = "checked::min_fragment_size"
+    )]
+    pub min_fragment_size: f32,
+    /// Most bodies: a shatter that would exceed it bounces instead; default
+    /// 1 000 000, at most 20 000 000.
+    #[serde(default = "defaults::max_bodies", deserialize_with = "checked::max_bodies")]
+    pub max_bodies: u64,
     /// Seed of the generators and of the fragments' spread; default 1.
     #[serde(default = "defaults::seed")]
     pub seed: u64,
@@ -241,6 +252,12 @@ mod defaults {
     }
     pub fn seed() -> u64 {
         PHYSICS.seed
+    }
+    pub fn min_fragment_size() -> f32 {
+        PHYSICS.min_fragment_size
+    }
+    pub fn max_bodies() -> u64 {
+        PHYSICS.max_bodies
     }
     pub fn half_extents() -> [f32; 3] {
         [1.0; 3]

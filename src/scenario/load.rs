@@ -163,6 +163,8 @@ impl Scenario {
             shatter_threshold: self.shatter_threshold,
             shatter_fragments: self.shatter_fragments,
             fragment_spread: self.fragment_spread,
+            min_fragment_size: self.min_fragment_size,
+            max_bodies: self.max_bodies,
             seed: self.seed,
             ..SimulationSettings::default()
         }

@@ -47,6 +47,8 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
     writeln!(out, "    shatter_threshold: {:?},", s.shatter_threshold)?;
     writeln!(out, "    shatter_fragments: {},", s.shatter_fragments)?;
     writeln!(out, "    fragment_spread: {:?},", s.fragment_spread)?;
+    writeln!(out, "    min_fragment_size: {:?},", s.min_fragment_size)?;
+    writeln!(out, "    max_bodies: {},", s.max_bodies)?;
     writeln!(out, "    seed: {},", s.seed)?;
     writeln!(out, "    next_id: {},", snapshot.next_id)?;
     writeln!(out, "    bodies: [")?;

@@ -14,6 +14,7 @@ use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
 use super::contact::{ContactBody, Outcome, respond};
+use super::shatter::fragment_half_extent;
 use crate::components::{
     BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
 };
@@ -45,6 +46,41 @@ pub struct CollisionStats {
     pub shatters: usize,
     /// Pairs that shattered since the start.
     pub shatters_total: u64,
+    /// Pairs that met fast enough to shatter this update but bounced: their
+    /// fragments would have been below `min_fragment_size`, or there would
+    /// have been more than `max_bodies` bodies.
+    pub refused_shatters: usize,
+    /// Refused shatters since the start.
+    pub refused_total: u64,
+}
+
+/// The floor and the budget: turns the shatters that would make fragments
+/// below `min_fragment_size` or more bodies than `max_bodies` (counting from
+/// `bodies`, in pair order) into what the pair does when it may not shatter
+/// (a bounce). Returns the number refused.
+pub fn refuse_shatters(
+    matched: &[Matched],
+    outcomes: &mut [Outcome],
+    settings: &SimulationSettings,
+    bodies: usize,
+) -> usize {
+    let count = settings.shatter_fragments.max(2);
+    let added = u64::from(count) - 2;
+    let mut bodies = bodies as u64;
+    let mut refused = 0;
+    for ((_, [a, b], [sa, sb]), outcome) in matched.iter().zip(outcomes.iter_mut()) {
+        if *outcome != Outcome::Shatter {
+            continue;
+        }
+        let edge = 2.0 * fragment_half_extent(sa.half_extents, sb.half_extents, count);
+        if edge < f64::from(settings.min_fragment_size) || bodies + added > settings.max_bodies {
+            *outcome = respond(a, b, f32::INFINITY, settings.time_step);
+            refused += 1;
+        } else {
+            bodies += added;
+        }
+    }
+    refused
 }
 
 /// Responds to [`OverlappingPairs`] in [`SimulationSystems::Response`].
@@ -77,7 +113,7 @@ type ContactQuery<'w, 's> = Query<
 
 /// A pair the matching accepted: its entities, and each body as the kernel
 /// sees it and as a shatter would take it.
-type Matched = ([Entity; 2], [ContactBody; 2], [BodyState; 2]);
+pub type Matched = ([Entity; 2], [ContactBody; 2], [BodyState; 2]);
 
 fn body_state(query: &ContactQuery, entity: Entity) -> Option<(ContactBody, BodyState)> {
     let state = BodyState::from_components(query.get(entity).ok()?);
@@ -171,6 +207,7 @@ fn respond_to_pairs(
     if !(settings.collisions && settings.collision_response) {
         *stats = CollisionStats {
             shatters_total: stats.shatters_total,
+            refused_total: stats.refused_total,
             ..CollisionStats::default()
         };
         return;
@@ -183,8 +220,9 @@ fn respond_to_pairs(
         f32::INFINITY
     };
     let dt = settings.time_step;
-    let stage = execution.for_stage(SimulationSystems::Response.name(), bodies.iter().len());
-    let outcomes: Vec<Outcome> = stage
+    let body_count = bodies.iter().len();
+    let stage = execution.for_stage(SimulationSystems::Response.name(), body_count);
+    let mut outcomes: Vec<Outcome> = stage
         .map_chunks(matched.as_slice(), |chunk: &[Matched]| {
             chunk
                 .iter()
@@ -192,12 +230,15 @@ fn respond_to_pairs(
                 .collect::<Vec<_>>()
         })
         .concat();
+    let refused = refuse_shatters(&matched, &mut outcomes, &settings, body_count);
     let responses = apply_outcomes(&matched, outcomes, &mut bodies, &mut pending);
     *stats = CollisionStats {
         pairs: pairs.0.len(),
         responses,
         shatters: pending.0.len(),
         shatters_total: stats.shatters_total + pending.0.len() as u64,
+        refused_shatters: refused,
+        refused_total: stats.refused_total + refused as u64,
     };
     timings.record(SimulationSystems::Response, start.elapsed());
 }

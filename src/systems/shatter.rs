@@ -46,6 +46,13 @@ fn sphere_points(count: u32) -> Vec<DVec3> {
         .collect()
 }
 
+/// Half the edge of each of the `count` fragment cubes of two boxes: the
+/// cubes keep the pair's volume, `∛((h1x·h1y·h1z + h2x·h2y·h2z)/count)`.
+pub fn fragment_half_extent(a: Vec3, b: Vec3, count: u32) -> f64 {
+    let volume = |h: Vec3| f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
+    ((volume(a) + volume(b)) / f64::from(count.max(2))).cbrt()
+}
+
 /// Kernel: the fragments of bodies `a` and `b`, with ids from `first_id`.
 /// `count` is at least 2 (scenarios reject less, and the response does not
 /// shatter with less); a smaller count is taken as 2. `spread` is the
@@ -58,8 +65,7 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u6
     let total = m1 + m2;
     let center = (a.position.as_dvec3() * m1 + b.position.as_dvec3() * m2) / total;
     let velocity = (a.velocity.as_dvec3() * m1 + b.velocity.as_dvec3() * m2) / total;
-    let volume = |h: Vec3| f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
-    let half = ((volume(a.half_extents) + volume(b.half_extents)) / f64::from(count)).cbrt();
+    let half = fragment_half_extent(a.half_extents, b.half_extents, count);
     let impact = (a.velocity - b.velocity).as_dvec3().length();
 
     let (low, high) = (a.id.0.min(b.id.0), a.id.0.max(b.id.0));

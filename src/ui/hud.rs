@@ -65,6 +65,12 @@ fn hud(
                 "pairs {}   shatters {} (total {})",
                 collisions.pairs, collisions.shatters, collisions.shatters_total
             ));
+            if collisions.refused_total > 0 {
+                ui.label(format!(
+                    "refused shatters {} (total {}): size floor or body budget",
+                    collisions.refused_shatters, collisions.refused_total
+                ));
+            }
             ui.separator();
             stage_table(ui, &timings);
             stage_plot(ui, &stats);

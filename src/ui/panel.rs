@@ -11,8 +11,8 @@ use super::scene::SandboxState;
 use super::selection::{Selection, selected_info};
 use super::sets::SandboxSystems;
 use super::settings::{
-    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODY_COUNT, SPEED_RANGE, SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice,
-    UPS_RANGE,
+    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE, SPEED_RANGE,
+    SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE,
 };
 use super::snapshot_save::SnapshotSave;
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
@@ -197,6 +197,18 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
             .logarithmic(true)
             .text("impact threshold"),
     );
+    ui.add(
+        egui::Slider::new(&mut settings.min_fragment_size, MIN_FRAGMENT_SIZE_RANGE)
+            .logarithmic(true)
+            .text("smallest fragment"),
+    )
+    .on_hover_text("edge length: a collision whose fragments would be smaller bounces (0: no floor, the thesis)");
+    ui.add(
+        egui::Slider::new(&mut settings.max_bodies, MAX_BODIES_RANGE)
+            .logarithmic(true)
+            .text("body budget"),
+    )
+    .on_hover_text("a shatter that would make more bodies bounces");
     ui.add(egui::Slider::new(&mut settings.fragment_spread, FRAGMENT_SPREAD_RANGE).text("fragment spread"))
         .on_hover_text("the fragments' speed apart, as a share of the impact speed (the thesis's \"Streuung\")");
 }

@@ -18,6 +18,10 @@ pub const SPEED_RANGE: std::ops::RangeInclusive<f32> = 0.05..=8.0;
 pub const FRAGMENT_SPREAD_RANGE: std::ops::RangeInclusive<f32> = 0.0..=10.0;
 /// Most bodies the panel offers.
 pub const MAX_BODY_COUNT: u64 = 2_000_000;
+/// Smallest and largest size floor the panel offers, edge lengths.
+pub const MIN_FRAGMENT_SIZE_RANGE: std::ops::RangeInclusive<f32> = 0.0..=100.0;
+/// Smallest and largest body budget.
+pub const MAX_BODIES_RANGE: std::ops::RangeInclusive<u64> = 1..=crate::scenario::MAX_BODIES;
 /// Fewest and most fragments drawn with a trail.
 pub const TRAIL_COUNT_RANGE: std::ops::RangeInclusive<u32> = 1..=200;
 
@@ -120,6 +124,10 @@ pub struct SandboxSettings {
     /// Fragments' spread as a share of the impact speed, 0–10 (live; the
     /// thesis's "Streuung").
     pub fragment_spread: f32,
+    /// Edge below which a collision bounces instead of shattering (live).
+    pub min_fragment_size: f32,
+    /// Most bodies; a shatter beyond bounces instead (live).
+    pub max_bodies: u64,
     /// Scenario file; `None` is the built-in debris field (on restart).
     pub scenario: Option<PathBuf>,
     /// Camera (live).
@@ -154,6 +162,8 @@ impl Default for SandboxSettings {
             shatter_fragments: physics.shatter_fragments,
             shatter_threshold: physics.shatter_threshold,
             fragment_spread: physics.fragment_spread,
+            min_fragment_size: physics.min_fragment_size,
+            max_bodies: physics.max_bodies,
             scenario: None,
             camera: CameraMode::Orbit,
             render_method: DrawMethod::Instanced,
@@ -203,6 +213,16 @@ impl SandboxSettings {
                 .clamp(*TRAIL_COUNT_RANGE.start(), *TRAIL_COUNT_RANGE.end());
             fixed.push("trail_count");
         }
+        if !MIN_FRAGMENT_SIZE_RANGE.contains(&self.min_fragment_size) {
+            self.min_fragment_size = SimulationSettings::default().min_fragment_size;
+            fixed.push("min_fragment_size");
+        }
+        if !MAX_BODIES_RANGE.contains(&self.max_bodies) {
+            self.max_bodies = self
+                .max_bodies
+                .clamp(*MAX_BODIES_RANGE.start(), *MAX_BODIES_RANGE.end());
+            fixed.push("max_bodies");
+        }
         if !FRAGMENT_SPREAD_RANGE.contains(&self.fragment_spread) {
             self.fragment_spread = SimulationSettings::default().fragment_spread;
             fixed.push("fragment_spread");
@@ -218,6 +238,8 @@ impl SandboxSettings {
         physics.shatter_fragments = self.shatter_fragments.max(2);
         physics.shatter_threshold = self.shatter_threshold;
         physics.fragment_spread = self.fragment_spread;
+        physics.min_fragment_size = self.min_fragment_size;
+        physics.max_bodies = self.max_bodies;
     }
 
     /// Takes a freshly loaded scenario's own values (seed, fragments,
@@ -227,6 +249,8 @@ impl SandboxSettings {
         self.shatter_fragments = physics.shatter_fragments;
         self.shatter_threshold = physics.shatter_threshold;
         self.fragment_spread = physics.fragment_spread;
+        self.min_fragment_size = physics.min_fragment_size;
+        self.max_bodies = physics.max_bodies;
     }
 }
 

@@ -1,0 +1,104 @@
+//! The record of a run (`kessler headless ... --timeline FILE [--every
+//! K]`): a CSV row every K updates with the body count, what collisions
+//! did, and the totals the physics conserves. The window's HUD and panel
+//! show the same numbers ([`Totals`], [`CollisionStats`]). Written
+//! atomically, like the dump.
+
+use std::io::{self, Write};
+
+use crate::Simulation;
+use crate::systems::Totals;
+
+/// The header line — a stable contract.
+pub const HEADER: &str =
+    "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z";
+
+/// One row: the state after `update` updates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimelineRow {
+    /// Updates run.
+    pub update: u64,
+    /// Overlapping pairs in the last update (0 before the first).
+    pub pairs: u64,
+    /// Shatters since the previous row.
+    pub shatters: u64,
+    /// Shatters refused (size floor, body budget) since the previous row.
+    pub refused_shatters: u64,
+    /// Bodies, mass, kinetic energy and momentum now.
+    pub totals: Totals,
+}
+
+/// Rows taken every `every` updates, and after the last.
+#[derive(Clone, Debug)]
+pub struct Timeline {
+    every: u64,
+    rows: Vec<TimelineRow>,
+    /// Shatters and refusals since the start at the last row.
+    counted: (u64, u64),
+}
+
+impl Timeline {
+    /// A timeline with a row every `every` updates (at least 1).
+    pub fn new(every: u64) -> Self {
+        Self {
+            every: every.max(1),
+            rows: Vec::new(),
+            counted: (0, 0),
+        }
+    }
+
+    /// Updates between rows.
+    pub fn every(&self) -> u64 {
+        self.every
+    }
+
+    /// The rows so far.
+    pub fn rows(&self) -> &[TimelineRow] {
+        &self.rows
+    }
+
+    /// Adds the row of `sim` after `update` updates.
+    pub fn record(&mut self, sim: &mut Simulation, update: u64) {
+        let stats = sim.collision_stats();
+        let pairs = if update == 0 { 0 } else { stats.pairs as u64 };
+        let (shatters, refused) = self.counted;
+        self.rows.push(TimelineRow {
+            update,
+            pairs,
+            shatters: stats.shatters_total - shatters,
+            refused_shatters: stats.refused_total - refused,
+            totals: sim.totals(),
+        });
+        self.counted = (stats.shatters_total, stats.refused_total);
+    }
+
+    /// Runs `updates` updates of `sim`, a row before the first, every
+    /// [`Self::every`] updates and after the last; `progress` hears the
+    /// updates done after each row.
+    pub fn run(&mut self, sim: &mut Simulation, updates: u64, mut progress: impl FnMut(u64)) {
+        self.record(sim, 0);
+        let mut done = 0;
+        while done < updates {
+            let n = self.every.min(updates - done);
+            sim.step(n);
+            done += n;
+            self.record(sim, done);
+            progress(done);
+        }
+    }
+
+    /// Writes the header and the rows, floats in Rust's shortest
+    /// round-trip form.
+    pub fn write_csv(&self, mut out: impl Write) -> io::Result<()> {
+        writeln!(out, "{HEADER}")?;
+        for r in &self.rows {
+            let (t, p) = (r.totals, r.totals.momentum);
+            writeln!(
+                out,
+                "{},{},{},{},{},{},{},{},{},{}",
+                r.update, t.bodies, r.pairs, r.shatters, r.refused_shatters, t.mass, t.kinetic_energy, p.x, p.y, p.z
+            )?;
+        }
+        out.flush()
+    }
+}
