@@ -32,6 +32,8 @@ fn shipped_scenarios_validate() {
         ("two_body.ron", "2 bodies"),
         ("thesis_cloud.ron", "10001 bodies"),
         ("debris_orbit.ron", "20002 bodies"),
+        ("cascade.ron", "3001 bodies"),
+        ("far_outliers.ron", "100006 bodies"),
     ] {
         let out = kessler().args(["validate", &scenario(file)]).output().unwrap();
         assert!(out.status.success(), "{file}: {}", String::from_utf8_lossy(&out.stderr));

@@ -39,15 +39,37 @@ impl FiledChunk {
 /// Noted for a box that covers more than one cell.
 const SEVERAL_CELLS: u32 = u32::MAX;
 
-/// Kernel: the bounds of the lower y–z corners of the boxes in `range`.
-pub fn corner_bounds<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>) -> (Vec2, Vec2) {
+/// The lower y–z corners of a chunk of boxes: their bounds, and those of
+/// the boxes whose index is a multiple of the sampling stride.
+#[derive(Clone, Debug, Default)]
+pub struct CornerSample {
+    /// Least corner, per axis.
+    pub lo: Vec2,
+    /// Greatest corner, per axis.
+    pub hi: Vec2,
+    /// The sampled corners, in input order.
+    pub sample: Vec<Vec2>,
+}
+
+/// Kernel: the bounds of the lower y–z corners of the boxes in `range`, and
+/// the corners of the boxes whose index is a multiple of `stride` (so the
+/// sample does not depend on how the boxes are cut into chunks).
+pub fn corner_sample<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>, stride: usize) -> CornerSample {
+    let stride = stride.max(1);
     let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
-    boxes.for_each_in(range, |_, b| {
+    let mut sample = Vec::with_capacity(range.len() / stride + 1);
+    // The first multiple of `stride` in the range (no division per box).
+    let mut next = range.start.div_ceil(stride) * stride;
+    boxes.for_each_in(range, |i, b| {
         let corner = Vec2::new(b.min.y, b.min.z);
         lo = lo.min(corner);
         hi = hi.max(corner);
+        if i == next {
+            sample.push(corner);
+            next += stride;
+        }
     });
-    (lo, hi)
+    CornerSample { lo, hi, sample }
 }
 
 /// Kernel: files the boxes in `range` under every cell they cover (a stable

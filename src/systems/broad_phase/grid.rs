@@ -10,6 +10,14 @@ pub const BOXES_PER_CELL: usize = 64;
 /// Most cells per axis of the grid.
 const MAX_CELLS_PER_AXIS: usize = 256;
 
+/// Corners sampled to place the grid.
+pub const GRID_SAMPLES: usize = 4096;
+
+/// Share of the sampled corners left outside the grid at each end of an
+/// axis: far-flung bodies (escaped fragments) are clamped into the edge
+/// cells instead of stretching the grid over empty space.
+const OUTSIDE_SHARE: f64 = 0.005;
+
 /// A grid over y and z, fitted to the lower corners of the boxes.
 #[derive(Clone, Copy, Debug)]
 pub struct Grid {
@@ -19,7 +27,39 @@ pub struct Grid {
     cells_per_axis: u32,
 }
 
+/// The span of the bulk of the corners on one axis: from the sample's
+/// [`OUTSIDE_SHARE`] quantile to its `1 − OUTSIDE_SHARE` quantile, within
+/// the true bounds `lo..=hi`. With a small sample, the true bounds.
+fn bulk_span(values: &mut [f32], lo: f32, hi: f32) -> (f32, f32) {
+    let outside = (values.len() as f64 * OUTSIDE_SHARE) as usize;
+    if outside == 0 {
+        return (lo, hi);
+    }
+    // Two selections, not a sort: linear in the sample.
+    let last = values.len() - 1;
+    let q_hi = *values.select_nth_unstable_by(last - outside, f32::total_cmp).1;
+    let q_lo = *values[..last - outside]
+        .select_nth_unstable_by(outside, f32::total_cmp)
+        .1;
+    if q_lo.is_finite() && q_hi.is_finite() && q_lo <= q_hi {
+        (q_lo.max(lo), q_hi.min(hi))
+    } else {
+        (lo, hi)
+    }
+}
+
 impl Grid {
+    /// A grid for `count` boxes whose lower y–z corners lie in `lo..=hi`,
+    /// fitted to the bulk of `sample` (corners drawn evenly from them):
+    /// boxes beyond it share the edge cells.
+    pub fn fit_to_bulk(lo: Vec2, hi: Vec2, sample: &[Vec2], count: usize) -> Self {
+        let mut ys: Vec<f32> = sample.iter().map(|c| c.x).collect();
+        let mut zs: Vec<f32> = sample.iter().map(|c| c.y).collect();
+        let (y_lo, y_hi) = bulk_span(&mut ys, lo.x, hi.x);
+        let (z_lo, z_hi) = bulk_span(&mut zs, lo.y, hi.y);
+        Self::fit(Vec2::new(y_lo, z_lo), Vec2::new(y_hi, z_hi), count)
+    }
+
     /// A grid for `count` boxes whose lower y–z corners lie in `lo..=hi`.
     pub fn fit(lo: Vec2, hi: Vec2, count: usize) -> Self {
         let n = ((count / BOXES_PER_CELL) as f64)
@@ -108,5 +148,40 @@ mod tests {
         let mut cells = Vec::new();
         grid.for_each_cell(&far, |c| cells.push(c));
         assert_eq!(cells, [12]);
+    }
+
+    #[test]
+    fn a_few_far_corners_do_not_stretch_the_grid() {
+        // 10 000 corners in [0, 100]², 10 of them a million away.
+        let mut rng = crate::rng::Rng::new(3);
+        let mut corners: Vec<Vec2> = (0..10_000)
+            .map(|_| Vec2::new(rng.range(0.0, 100.0) as f32, rng.range(0.0, 100.0) as f32))
+            .collect();
+        for k in 0..10 {
+            corners[k * 997] = Vec2::new(1e6, -1e6 * k as f32);
+        }
+        let (lo, hi) = corners
+            .iter()
+            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(l, h), c| (l.min(*c), h.max(*c)));
+        let stride = corners.len() / GRID_SAMPLES + 1;
+        let sample: Vec<Vec2> = corners.iter().step_by(stride).copied().collect();
+        let grid = Grid::fit_to_bulk(lo, hi, &sample, corners.len());
+        let mut per_cell = vec![0usize; grid.cell_count()];
+        for c in &corners {
+            per_cell[grid.cell(c.x, c.y) as usize] += 1;
+        }
+        let fullest = per_cell.iter().max().copied().unwrap_or(0);
+        assert!(
+            fullest <= 3 * BOXES_PER_CELL,
+            "{fullest} corners in one cell of {} cells",
+            grid.cell_count()
+        );
+        // Without the sample's help, one cell would hold almost all.
+        let stretched = Grid::fit(lo, hi, corners.len());
+        let mut per_cell = vec![0usize; stretched.cell_count()];
+        for c in &corners {
+            per_cell[stretched.cell(c.x, c.y) as usize] += 1;
+        }
+        assert!(per_cell.iter().max().copied().unwrap_or(0) > 9000);
     }
 }

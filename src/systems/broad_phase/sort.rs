@@ -7,8 +7,8 @@ use std::sync::{Mutex, PoisonError};
 use bevy::prelude::*;
 
 use super::BoxSource;
-use super::filing::{FiledChunk, corner_bounds, file_by_cell};
-use super::grid::Grid;
+use super::filing::{FiledChunk, corner_sample, file_by_cell};
+use super::grid::{GRID_SAMPLES, Grid};
 use super::ordering::{CellOrder, order_cells};
 use crate::execution::StageExecution;
 
@@ -69,14 +69,16 @@ impl SortedBoxes {
 /// then the ordering of each cell on x, each step whole or in chunks as
 /// `stage` says.
 pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
-    let (lo, hi) = stage
-        .map_chunks(0..boxes.len(), |range| corner_bounds(boxes, range))
-        .into_iter()
-        .fold(
-            (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
-            |(lo, hi), (l, h)| (lo.min(l), hi.max(h)),
-        );
-    let grid = Grid::fit(lo, hi, boxes.len());
+    // The bounds of the corners, and an even sample of them to fit the
+    // grid to their bulk: a few far-flung boxes must not stretch it.
+    let stride = boxes.len() / GRID_SAMPLES + 1;
+    let samples = stage.map_chunks(0..boxes.len(), |range| corner_sample(boxes, range, stride));
+    let (lo, hi) = samples.iter().fold(
+        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
+        |(lo, hi), s| (lo.min(s.lo), hi.max(s.hi)),
+    );
+    let sample: Vec<Vec2> = samples.into_iter().flat_map(|s| s.sample).collect();
+    let grid = Grid::fit_to_bulk(lo, hi, &sample, boxes.len());
     let chunks = Spare::new(&mut sorted.spare_chunks, &mut sorted.chunks);
     sorted.chunks = stage.map_chunks(0..boxes.len(), |range| file_by_cell(boxes, range, &grid, chunks.take()));
     sorted.spare_chunks = chunks.into_inner();

@@ -187,6 +187,30 @@ mod tests {
             .collect()
     }
 
+    /// Far-flung boxes are clamped into the grid's edge cells: pairs among
+    /// them, and with huge boxes reaching back into the crowd, are still
+    /// found, once each.
+    #[test]
+    fn matches_brute_force_with_far_outliers() {
+        let mut boxes = random_boxes(4000, 9);
+        for k in 0..12 {
+            let far = 1e6 * (1.0 + (k / 2) as f32);
+            // In pairs that overlap each other, on every side of the crowd.
+            let center = match k % 4 {
+                0 | 1 => Vec3::new(30.0, far, -far),
+                _ => Vec3::new(-far, -far, 30.0),
+            } + Vec3::splat((k % 2) as f32 * 0.5);
+            boxes.push(Aabb::new(center, Vec3::ONE));
+        }
+        // One long box from far away into the crowd.
+        boxes.push(Aabb::new(Vec3::new(30.0, 5e5, 30.0), Vec3::new(1.0, 5e5, 1.0)));
+        let expected = brute_force(&boxes);
+        assert!(expected.iter().any(|&(i, j)| i >= 4000 && j >= 4000), "far pairs exist");
+        for mode in [ExecutionMode::Sequential, ExecutionMode::Parallel] {
+            assert_eq!(normalized(run(&boxes, mode)), expected, "{mode:?}");
+        }
+    }
+
     #[test]
     fn matches_brute_force_on_random_mixed_boxes_with_touches() {
         for seed in 0..3 {
