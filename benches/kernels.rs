@@ -9,7 +9,7 @@ use kessler::components::{BodyId, BodyState, GravityRole, Position, Velocity};
 use kessler::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
 use kessler::rng::Rng;
 use kessler::systems::{
-    Aabb, ContactBody, GravitySource, SortedBoxes, fragments, gravity_kernel, respond, sweep_and_prune,
+    Aabb, ContactBody, GravitySource, Pull, SortedBoxes, fragments, gravity_kernel, respond, sweep_and_prune,
 };
 
 const COUNTS: [usize; 3] = [1_000, 10_000, 100_000];
@@ -58,7 +58,7 @@ fn gravity(c: &mut Criterion) {
                         velocities.as_mut_slice(),
                     );
                     exec.for_stage("gravity", count)
-                        .for_chunks(columns, |cols| gravity_kernel(cols, &sources, 0.0, 1.0));
+                        .for_chunks(columns, |cols| gravity_kernel(cols, Pull::Direct(&sources), 0.0, 1.0));
                 })
             });
         }

@@ -38,7 +38,7 @@ fn every_malformed_scenario_is_a_clear_error() {
 #[test]
 fn bad_arguments_are_clear_errors() {
     let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
-    let cases: [(&[&str], &str); 16] = [
+    let cases: [(&[&str], &str); 18] = [
         (&["headless", scenario, "--steps", "-5"], "--steps"),
         (&["headless", scenario, "--steps", "ten"], "--steps"),
         (&["headless", scenario], "--steps"),
@@ -97,6 +97,14 @@ fn bad_arguments_are_clear_errors() {
             "--every",
         ),
         (&["headless", scenario, "--steps", "1", "--every", "5"], "--timeline"),
+        (
+            &["headless", scenario, "--steps", "1", "--gravity", "barnes"],
+            "--gravity",
+        ),
+        (
+            &["headless", scenario, "--steps", "1", "--gravity", "tree:-1"],
+            "--gravity",
+        ),
         (
             &[
                 "headless",

@@ -34,6 +34,8 @@ fn shipped_scenarios_validate() {
         ("debris_orbit.ron", "20002 bodies"),
         ("cascade.ron", "3001 bodies"),
         ("far_outliers.ron", "100006 bodies"),
+        ("debris_ring.ron", "3001 bodies"),
+        ("collapse.ron", "300 bodies"),
     ] {
         let out = kessler().args(["validate", &scenario(file)]).output().unwrap();
         assert!(out.status.success(), "{file}: {}", String::from_utf8_lossy(&out.stderr));

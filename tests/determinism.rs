@@ -74,3 +74,34 @@ fn large_adopter_field_is_bit_identical_in_both_modes() {
     ])";
     assert_modes_agree(text, 20);
 }
+
+/// The Barnes–Hut tree with shattering on: 300 heavy cubes collapse, crash
+/// and shatter; every mode and thread count gives the same bits, and the
+/// same fragments.
+#[test]
+fn the_gravity_tree_is_bit_identical_with_shattering() {
+    let text = "Scenario(softening: 1.0, gravity: Tree(theta: 0.5), generators: [
+        Cloud(count: 300, center: (0, 0, 0), half_size: (40, 40, 40), max_speed: 0.5,
+              body: (role: SourceAndAdopter)),
+    ])";
+    let scenario = Scenario::parse(text, "test").unwrap();
+    let run = |mode, threads| {
+        let execution = Execution::new(mode, threads).unwrap();
+        let execution = if mode == ExecutionMode::Parallel {
+            execution.fine_grained()
+        } else {
+            execution
+        };
+        let mut sim = Simulation::from_scenario(&scenario, execution).unwrap();
+        sim.step(40);
+        (sim.snapshot(), sim.collision_stats().shatters_total)
+    };
+    let (sequential, shatters) = run(ExecutionMode::Sequential, 1);
+    assert!(shatters > 50, "only {shatters} shatters");
+    for threads in [2, 3] {
+        let (parallel, _) = run(ExecutionMode::Parallel, threads);
+        let ids = |b: &[BodyState]| b.iter().map(|b| b.id).collect::<Vec<_>>();
+        assert_eq!(ids(&sequential), ids(&parallel), "{threads} threads: other fragments");
+        assert!(bits(&sequential) == bits(&parallel), "{threads} threads differ");
+    }
+}

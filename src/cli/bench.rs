@@ -15,13 +15,20 @@ use crate::bench::{
 };
 use crate::calibration::machine_auto_split;
 use crate::execution::SplitPolicy;
+use crate::resources::GravityMethod;
 use crate::scenario::Scenario;
 
 /// Threads of the bare dispatch measurement.
 const EMPTY_STEP_THREADS: [usize; 2] = [1, 2];
 
-/// Runs the command: load and check everything, measure, write.
-pub fn bench(config_path: &Path, out: &Path, split: SplitPolicy) -> Result<(), Failure> {
+/// Runs the command: load and check everything, measure, write. `gravity`
+/// replaces the scenario's gravity method in every run.
+pub fn bench(
+    config_path: &Path,
+    out: &Path,
+    split: SplitPolicy,
+    gravity: Option<GravityMethod>,
+) -> Result<(), Failure> {
     let config = BenchConfig::load(config_path)?;
     // (A build without the window refused `Render` runs as it loaded.)
     #[cfg(feature = "gui")]
@@ -36,7 +43,10 @@ pub fn bench(config_path: &Path, out: &Path, split: SplitPolicy) -> Result<(), F
     }
     let outputs = BenchOutputs::beside(out);
     outputs.check()?;
-    let scenario = config.load_scenario(config_path)?;
+    let mut scenario = config.load_scenario(config_path)?;
+    if let Some(gravity) = gravity {
+        scenario.gravity = gravity;
+    }
     let sized = config.size_runs(&scenario, config_path)?;
     let defaults = RunDefaults {
         split,

@@ -45,7 +45,12 @@ fn dispatch(command: Option<Command>) -> Result<(), Failure> {
     match command.unwrap_or(Command::Run(RunArgs::default())) {
         Command::Run(args) => run::run(args),
         Command::Headless(args) => headless::headless(&args),
-        Command::Bench { config, out, split } => bench::bench(&config, &out, split),
+        Command::Bench {
+            config,
+            out,
+            split,
+            gravity,
+        } => bench::bench(&config, &out, split, gravity),
         Command::Calibrate { threads, out } => calibrate::calibrate_command(threads, out.as_deref()),
         Command::Pairs { scenario, execution } => pairs::pairs(&scenario, &execution),
         Command::Validate { scenario } => validate::validate(&scenario),

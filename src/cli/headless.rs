@@ -25,7 +25,10 @@ pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
 
 /// Runs the command.
 pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
-    let scenario = Scenario::load(&args.scenario)?;
+    let mut scenario = Scenario::load(&args.scenario)?;
+    if let Some(gravity) = args.gravity {
+        scenario.gravity = gravity;
+    }
     if let Some(path) = &args.dump {
         check_replaceable("--dump", path)?;
     }

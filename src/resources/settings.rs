@@ -2,6 +2,8 @@
 
 use bevy::prelude::*;
 
+use super::GravityMethod;
+
 /// The physics of one simulation: set from the scenario, some changeable live.
 #[derive(Resource, Clone, Debug, PartialEq)]
 pub struct SimulationSettings {
@@ -11,6 +13,8 @@ pub struct SimulationSettings {
     pub time_step: f32,
     /// Softening length `ε`: gravity uses `(r² + ε²)^{3/2}`; 0 means none.
     pub softening: f32,
+    /// Direct sum or Barnes–Hut tree.
+    pub gravity_method: GravityMethod,
     /// Impact speed `|v1 − v2|` from which two interacting bodies shatter.
     pub shatter_threshold: f32,
     /// Fragments spawned per shatter; always ≥ 2.
@@ -41,6 +45,7 @@ impl SimulationSettings {
         gravitational_constant: 6.674,
         time_step: 1.0,
         softening: 0.0,
+        gravity_method: GravityMethod::Direct,
         shatter_threshold: 3.0,
         shatter_fragments: 5,
         fragment_spread: 0.2,

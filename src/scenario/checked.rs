@@ -2,9 +2,11 @@
 //! named after its field, built on the shared checks of
 //! [`crate::input`], so that an error names the line, the field and the rule.
 
-use serde::de::Deserializer;
+use serde::Deserialize;
+use serde::de::{Deserializer, Error};
 
 use crate::input::{body_count, f32_where, vec3_where, whole_between};
+use crate::resources::GravityMethod;
 
 /// Most bodies one scenario may create: about 200 bytes each in memory, so
 /// this bounds a run to a few GiB.
@@ -70,6 +72,16 @@ pub fn optional_half_extents<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[
 /// would not conserve volume, or divide by zero).
 pub fn shatter_fragments<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
     whole_between(d, "shatter_fragments", 2, MAX_FRAGMENTS)
+}
+
+/// `gravity`: `Direct`, or `Tree(theta: θ)` with θ from 0 to
+/// [`MAX_THETA`](crate::resources::MAX_THETA).
+pub fn gravity<'de, D: Deserializer<'de>>(d: D) -> Result<GravityMethod, D::Error> {
+    let method = GravityMethod::deserialize(d)
+        .map_err(|e| D::Error::custom(format!("field `gravity`: {e} (write `Direct` or `Tree(theta: 0.5)`)")))?;
+    method
+        .check()
+        .map_err(|problem| D::Error::custom(format!("field `gravity`: {problem}")))
 }
 
 /// `max_bodies`: from 1 to [`MAX_BODIES`].

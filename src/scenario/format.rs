@@ -5,6 +5,7 @@ use serde::Deserialize;
 
 use super::checked;
 use crate::components::GravityRole;
+use crate::resources::GravityMethod;
 
 /// A whole scenario: physics parameters, explicit bodies and generators.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -28,6 +29,10 @@ pub struct Scenario {
     /// Gravity's softening length `ε`; default 0.
     #[serde(default = "defaults::softening", deserialize_with = "checked::softening")]
     pub softening: f32,
+    /// `Direct` (default: every source for every adopter) or
+    /// `Tree(theta: 0.5)` (Barnes–Hut, for thousands of sources).
+    #[serde(default, deserialize_with = "checked::gravity")]
+    pub gravity: GravityMethod,
     /// Impact speed from which two interacting bodies shatter; default 3.
     #[serde(
         default = "defaults::shatter_threshold",

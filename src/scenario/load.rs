@@ -160,6 +160,7 @@ impl Scenario {
             gravitational_constant: self.gravitational_constant,
             time_step: self.time_step,
             softening: self.softening,
+            gravity_method: self.gravity,
             shatter_threshold: self.shatter_threshold,
             shatter_fragments: self.shatter_fragments,
             fragment_spread: self.fragment_spread,

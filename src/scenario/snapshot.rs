@@ -7,7 +7,7 @@
 use std::io::{self, Write};
 
 use crate::components::BodyState;
-use crate::resources::SimulationSettings;
+use crate::resources::{GravityMethod, SimulationSettings};
 
 /// What a snapshot holds.
 #[derive(Clone, Copy, Debug)]
@@ -44,6 +44,10 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
     writeln!(out, "    gravitational_constant: {:?},", s.gravitational_constant)?;
     writeln!(out, "    time_step: {:?},", s.time_step)?;
     writeln!(out, "    softening: {:?},", s.softening)?;
+    match s.gravity_method {
+        GravityMethod::Direct => writeln!(out, "    gravity: Direct,")?,
+        GravityMethod::Tree { theta } => writeln!(out, "    gravity: Tree(theta: {theta:?}),")?,
+    }
     writeln!(out, "    shatter_threshold: {:?},", s.shatter_threshold)?;
     writeln!(out, "    shatter_fragments: {},", s.shatter_fragments)?;
     writeln!(out, "    fragment_spread: {:?},", s.fragment_spread)?;

@@ -16,9 +16,10 @@ use std::time::Instant;
 use bevy::math::DVec3;
 use bevy::prelude::*;
 
+use super::gravity_tree::Octree;
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::execution::Execution;
-use crate::resources::SimulationSettings;
+use crate::resources::{GravityMethod, SimulationSettings};
 use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
 
 /// A body that attracts others, as the kernel sees it.
@@ -68,20 +69,45 @@ pub fn acceleration_at(id: BodyId, position: Vec3, sources: &[GravitySource], so
     a.as_vec3()
 }
 
+/// Where the pull comes from: every source, or their octree.
+#[derive(Clone, Copy, Debug)]
+pub enum Pull<'a> {
+    /// The sources, summed one by one in id order.
+    Direct(&'a [GravitySource]),
+    /// Their Barnes–Hut tree, with its opening angle.
+    Tree(&'a Octree, f64),
+}
+
+impl Pull<'_> {
+    /// The acceleration of the body `id` at `position` (`ε²` = `softening2`).
+    #[inline]
+    pub fn at(&self, id: BodyId, position: Vec3, softening2: f64) -> Vec3 {
+        match *self {
+            Self::Direct(sources) => acceleration_at(id, position, sources, softening2),
+            Self::Tree(tree, theta) => tree.acceleration_at(id, position, theta, softening2),
+        }
+    }
+}
+
 /// Kernel: the kick `v += a·dt` of every adopter in the columns, `a` being
 /// the gravitational pull at its position; other bodies keep their velocity.
 pub fn gravity_kernel(
     (ids, positions, roles, velocities): GravityColumns<'_>,
-    sources: &[GravitySource],
+    pull: Pull<'_>,
     softening2: f64,
     dt: f32,
 ) {
     for (((id, p), role), v) in ids.iter().zip(positions).zip(roles).zip(velocities) {
         if role.is_adopter() {
-            v.0 += acceleration_at(*id, p.0, sources, softening2) * dt;
+            v.0 += pull.at(*id, p.0, softening2) * dt;
         }
     }
 }
+
+/// About how many nodes and sources a body sums through the tree at
+/// `θ = 0.5` (measured: near a thousand for 10 000 sources), for the split
+/// policy.
+const TREE_PULLS_PER_BODY: usize = 1000;
 
 /// Roles tested at once by [`collect_sources`].
 const SCAN_BLOCK: usize = 256;
@@ -124,6 +150,7 @@ fn apply_gravity(
     execution: Res<Execution>,
     mut timings: ResMut<StageTimings>,
     mut sources: Local<Vec<GravitySource>>,
+    mut tree: Local<Octree>,
     all: Query<(&BodyId, &Position, &Mass, &GravityRole)>,
     mut bodies: Query<(&BodyId, &Position, &GravityRole, &mut Velocity)>,
 ) {
@@ -131,11 +158,25 @@ fn apply_gravity(
     let all = all.contiguous_iter().expect("body components are table-stored");
     collect_sources(all, f64::from(settings.gravitational_constant), &mut sources);
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
-    let stage = execution.for_stage(SimulationSystems::Gravity.name(), bodies.iter().len());
+    let pull = match settings.gravity_method {
+        GravityMethod::Direct => Pull::Direct(&sources),
+        GravityMethod::Tree { theta } => {
+            tree.rebuild(&sources);
+            Pull::Tree(&tree, f64::from(theta))
+        }
+    };
+    // The split policy weighs the stage's work in pulls, the unit its
+    // calibration measured (the thesis scene has one source).
+    let pulls_per_body = match settings.gravity_method {
+        GravityMethod::Direct => sources.len(),
+        GravityMethod::Tree { .. } => sources.len().min(TREE_PULLS_PER_BODY),
+    };
+    let work = bodies.iter().len().saturating_mul(pulls_per_body.max(1));
+    let stage = execution.for_stage(SimulationSystems::Gravity.name(), work);
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     for (ids, positions, roles, mut velocities) in tables {
         let columns = (ids, positions, roles, velocities.bypass_change_detection());
-        stage.for_chunks(columns, |columns| gravity_kernel(columns, &sources, softening2, dt));
+        stage.for_chunks(columns, |columns| gravity_kernel(columns, pull, softening2, dt));
     }
     timings.record(SimulationSystems::Gravity, start.elapsed());
 }
@@ -194,7 +235,7 @@ mod tests {
         // Unit pull towards the origin for half a step: v.x = 1 − 0.5.
         gravity_kernel(
             (&ids, &positions, &roles, &mut velocities),
-            &[source(0, [0.0; 3], 1.0)],
+            Pull::Direct(&[source(0, [0.0; 3], 1.0)]),
             0.0,
             0.5,
         );

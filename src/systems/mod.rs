@@ -4,6 +4,7 @@
 mod broad_phase;
 mod contact;
 mod gravity;
+mod gravity_tree;
 mod integrate;
 mod plugins;
 mod response;
@@ -16,6 +17,7 @@ mod totals;
 pub use broad_phase::*;
 pub use contact::*;
 pub use gravity::*;
+pub use gravity_tree::*;
 pub use integrate::*;
 pub use plugins::*;
 pub use response::*;

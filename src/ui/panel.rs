@@ -18,6 +18,7 @@ use super::snapshot_save::SnapshotSave;
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, available_threads};
+use crate::resources::{DEFAULT_THETA, GravityMethod};
 use crate::rng::Rng;
 
 /// Folder the scenario picker lists.
@@ -186,6 +187,24 @@ fn split_policy(ui: &mut egui::Ui, split: &mut SplitPolicy) {
 fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     ui.label("Stages");
     ui.checkbox(&mut settings.gravity, "gravity");
+    ui.horizontal(|ui| {
+        let direct = settings.gravity_method == GravityMethod::Direct;
+        if ui.radio(direct, "direct sum").clicked() {
+            settings.gravity_method = GravityMethod::Direct;
+        }
+        if ui
+            .radio(!direct, "tree")
+            .on_hover_text("Barnes–Hut: for thousands of sources")
+            .clicked()
+            && direct
+        {
+            settings.gravity_method = GravityMethod::Tree { theta: DEFAULT_THETA };
+        }
+        if let GravityMethod::Tree { theta } = &mut settings.gravity_method {
+            ui.add(egui::Slider::new(theta, 0.0..=1.5).text("θ"))
+                .on_hover_text("opening angle: 0 is the direct sum; 0.5 errs about 0.1 %");
+        }
+    });
     ui.checkbox(&mut settings.collisions, "collision detection");
     ui.add_enabled(
         settings.collisions,

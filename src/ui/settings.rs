@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, available_threads};
-use crate::resources::SimulationSettings;
+use crate::resources::{DEFAULT_THETA, GravityMethod, SimulationSettings};
 
 /// Slowest and fastest target update rate, updates per second.
 pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
@@ -109,6 +109,8 @@ pub struct SandboxSettings {
     pub collision_response: bool,
     /// Gravity on/off (live).
     pub gravity: bool,
+    /// Direct sum or Barnes–Hut tree (live).
+    pub gravity_method: GravityMethod,
     /// Target simulation updates per second, 1–600 (live).
     pub updates_per_second: u32,
     /// Factor on the update rate (live).
@@ -155,6 +157,7 @@ impl Default for SandboxSettings {
             collisions: true,
             collision_response: true,
             gravity: true,
+            gravity_method: physics.gravity_method,
             updates_per_second: 60,
             speed: 1.0,
             body_count: None,
@@ -207,6 +210,10 @@ impl SandboxSettings {
             self.shatter_threshold = SimulationSettings::default().shatter_threshold;
             fixed.push("shatter_threshold");
         }
+        if self.gravity_method.check().is_err() {
+            self.gravity_method = GravityMethod::Tree { theta: DEFAULT_THETA };
+            fixed.push("gravity_method");
+        }
         if !TRAIL_COUNT_RANGE.contains(&self.trail_count) {
             self.trail_count = self
                 .trail_count
@@ -240,6 +247,7 @@ impl SandboxSettings {
         physics.fragment_spread = self.fragment_spread;
         physics.min_fragment_size = self.min_fragment_size;
         physics.max_bodies = self.max_bodies;
+        physics.gravity_method = self.gravity_method;
     }
 
     /// Takes a freshly loaded scenario's own values (seed, fragments,
@@ -251,6 +259,7 @@ impl SandboxSettings {
         self.fragment_spread = physics.fragment_spread;
         self.min_fragment_size = physics.min_fragment_size;
         self.max_bodies = physics.max_bodies;
+        self.gravity_method = physics.gravity_method;
     }
 }
 
