@@ -55,8 +55,15 @@ impl Plugin for GravityPlugin {
 /// caller keeps positions finite.
 #[inline]
 pub fn acceleration_at(id: BodyId, position: Vec3, sources: &[GravitySource], softening2: f64) -> Vec3 {
-    let p = position.as_dvec3();
     let mut a = DVec3::ZERO;
+    add_pulls(&mut a, id, position.as_dvec3(), sources, softening2);
+    a.as_vec3()
+}
+
+/// Adds the pull of each of `sources` in order to `a`, for the body `id`
+/// at `p`: all but itself and sources at its very position.
+#[inline]
+pub fn add_pulls(a: &mut DVec3, id: BodyId, p: DVec3, sources: &[GravitySource], softening2: f64) {
     for s in sources {
         let d = s.position - p;
         let r2 = d.length_squared();
@@ -64,9 +71,8 @@ pub fn acceleration_at(id: BodyId, position: Vec3, sources: &[GravitySource], so
             continue;
         }
         let r2 = r2 + softening2;
-        a += d * (s.gm / (r2 * r2.sqrt()));
+        *a += d * (s.gm / (r2 * r2.sqrt()));
     }
-    a.as_vec3()
 }
 
 /// Where the pull comes from: every source, or their octree.

@@ -15,7 +15,7 @@
 use bevy::math::DVec3;
 use bevy::prelude::*;
 
-use super::gravity::GravitySource;
+use super::gravity::{GravitySource, add_pulls};
 use crate::components::BodyId;
 
 /// Most sources in a leaf.
@@ -168,15 +168,7 @@ impl Octree {
             let node = &self.nodes[i];
             if node.count > 0 {
                 let leaf = &self.sources[node.first as usize..(node.first + node.count) as usize];
-                for s in leaf {
-                    let d = s.position - p;
-                    let r2 = d.length_squared();
-                    if s.id == id || r2 == 0.0 {
-                        continue;
-                    }
-                    let r2 = r2 + softening2;
-                    a += d * (s.gm / (r2 * r2.sqrt()));
-                }
+                add_pulls(&mut a, id, p, leaf, softening2);
                 i = node.skip as usize;
                 continue;
             }
