@@ -271,6 +271,25 @@ fn the_crossover_names_where_always_beats_sequential_and_marks_the_plot() {
     }
 }
 
+/// `--out r.svg` names the plot's own path (and `--out q.png` the PNG's):
+/// refused at once, nothing written, rather than the plot over the results.
+#[test]
+fn results_named_like_the_plot_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, what) in [("r.svg", "SVG plot"), ("q.png", "PNG plot")] {
+        let out = dir.path().join(name);
+        let result = run_tiny(dir.path(), &out);
+        assert_eq!(result.status.code(), Some(2), "{name}");
+        assert_one_clear_line(&result.stderr, &["--out", name, what]);
+        let written: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|n| n != "tiny.ron")
+            .collect();
+        assert!(written.is_empty(), "{name}: wrote {written:?}");
+    }
+}
+
 #[test]
 fn a_bad_split_flag_is_one_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();

@@ -10,7 +10,7 @@ use super::{
     CROSSOVER_HEADER, Crossover, OVERHEAD_HEADER, RunResult, overhead_rows, passes_header, png, result_row,
     results_header, svg,
 };
-use crate::output::{AppendedFile, OutputError, WriteError, check_new, write_atomically};
+use crate::output::{AppendedFile, OutputError, OutputProblem, WriteError, check_new, write_atomically};
 
 /// What to do when an output exists already.
 const NEVER_OVERWRITE: &str = "remove it or choose another --out (results are never overwritten)";
@@ -129,9 +129,33 @@ impl BenchOutputs {
         ]
     }
 
-    /// Refuses, before any run, if an output exists or its folder does not.
+    /// What each of [`Self::paths`] holds, in words.
+    const WHAT: [&'static str; 8] = [
+        "results",
+        "passes",
+        "overhead",
+        "crossover",
+        "machine report",
+        "window runs",
+        "SVG plot",
+        "PNG plot",
+    ];
+
+    /// Refuses, before any run, if two outputs would be one file (`--out
+    /// r.svg` names the plot's path), or if an output exists or its folder
+    /// does not.
     pub fn check(&self) -> Result<(), OutputError> {
-        self.paths()
+        let paths = self.paths();
+        for (i, path) in paths.iter().enumerate() {
+            if let Some(j) = paths[i + 1..].iter().position(|other| other == path) {
+                return Err(OutputError {
+                    flag: "--out".to_owned(),
+                    path: path.to_path_buf(),
+                    problem: OutputProblem::Shared(Self::WHAT[i + 1 + j]),
+                });
+            }
+        }
+        paths
             .into_iter()
             .try_for_each(|path| check_new("--out", path, NEVER_OVERWRITE))
     }

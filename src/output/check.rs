@@ -32,6 +32,9 @@ pub enum OutputProblem {
     /// It does not end in the extension its format needs.
     #[error(": must be a .{0} file")]
     Extension(&'static str),
+    /// Two outputs of one command would be this one file.
+    #[error(": the {0} would be written there too; give the results another name (e.g. results.csv)")]
+    Shared(&'static str),
 }
 
 fn problem(flag: &str, path: &Path, problem: OutputProblem) -> OutputError {
