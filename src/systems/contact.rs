@@ -7,6 +7,8 @@
 use bevy::math::DVec3;
 use bevy::prelude::*;
 
+use crate::components::BodyState;
+
 /// A body in a contact, as the kernel sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactBody {
@@ -25,6 +27,20 @@ pub struct ContactBody {
     /// True for a ball of radius `half_extents.x` (only non-interacting
     /// bodies are balls).
     pub spherical: bool,
+}
+
+impl From<&BodyState> for ContactBody {
+    fn from(b: &BodyState) -> Self {
+        Self {
+            position: b.position,
+            previous: b.previous,
+            velocity: b.velocity,
+            mass: b.mass,
+            half_extents: b.half_extents,
+            interacts: b.interacts,
+            spherical: b.spherical,
+        }
+    }
 }
 
 /// A body's new position and velocity.

@@ -164,18 +164,17 @@ fn apply_gravity(
     let all = all.contiguous_iter().expect("body components are table-stored");
     collect_sources(all, f64::from(settings.gravitational_constant), &mut sources);
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
-    let pull = match settings.gravity_method {
-        GravityMethod::Direct => Pull::Direct(&sources),
-        GravityMethod::Tree { theta } => {
-            tree.rebuild(&sources);
-            Pull::Tree(&tree, f64::from(theta))
-        }
-    };
     // The split policy weighs the stage's work in pulls, the unit its
     // calibration measured (the thesis scene has one source).
-    let pulls_per_body = match settings.gravity_method {
-        GravityMethod::Direct => sources.len(),
-        GravityMethod::Tree { .. } => sources.len().min(TREE_PULLS_PER_BODY),
+    let (pull, pulls_per_body) = match settings.gravity_method {
+        GravityMethod::Direct => (Pull::Direct(&sources), sources.len()),
+        GravityMethod::Tree { theta } => {
+            tree.rebuild(&sources);
+            (
+                Pull::Tree(&tree, f64::from(theta)),
+                sources.len().min(TREE_PULLS_PER_BODY),
+            )
+        }
     };
     let work = bodies.iter().len().saturating_mul(pulls_per_body.max(1));
     let stage = execution.for_stage(SimulationSystems::Gravity.name(), work);

@@ -13,7 +13,7 @@ use std::time::Instant;
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
-use super::contact::{ContactBody, Outcome, respond};
+use super::contact::{Outcome, respond};
 use super::shatter::fragment_half_extent;
 use crate::components::{
     BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
@@ -68,13 +68,13 @@ pub fn refuse_shatters(
     let added = u64::from(count) - 2;
     let mut bodies = bodies as u64;
     let mut refused = 0;
-    for ((_, [a, b], [sa, sb]), outcome) in matched.iter().zip(outcomes.iter_mut()) {
+    for ((_, [a, b]), outcome) in matched.iter().zip(outcomes.iter_mut()) {
         if *outcome != Outcome::Shatter {
             continue;
         }
-        let edge = 2.0 * fragment_half_extent(sa.half_extents, sb.half_extents, count);
+        let edge = 2.0 * fragment_half_extent(a.half_extents, b.half_extents, count);
         if edge < f64::from(settings.min_fragment_size) || bodies + added > settings.max_bodies {
-            *outcome = respond(a, b, f32::INFINITY, settings.time_step);
+            *outcome = respond(&a.into(), &b.into(), f32::INFINITY, settings.time_step);
             refused += 1;
         } else {
             bodies += added;
@@ -113,20 +113,10 @@ type ContactQuery<'w, 's> = Query<
 
 /// A pair the matching accepted: its entities, and each body as the kernel
 /// sees it and as a shatter would take it.
-pub type Matched = ([Entity; 2], [ContactBody; 2], [BodyState; 2]);
+pub type Matched = ([Entity; 2], [BodyState; 2]);
 
-fn body_state(query: &ContactQuery, entity: Entity) -> Option<(ContactBody, BodyState)> {
-    let state = BodyState::from_components(query.get(entity).ok()?);
-    let contact = ContactBody {
-        position: state.position,
-        previous: state.previous,
-        velocity: state.velocity,
-        mass: state.mass,
-        half_extents: state.half_extents,
-        interacts: state.interacts,
-        spherical: state.spherical,
-    };
-    Some((contact, state))
+fn body_state(query: &ContactQuery, entity: Entity) -> Option<BodyState> {
+    query.get(entity).ok().map(BodyState::from_components)
 }
 
 /// The greedy matching: pairs in sorted order, each interacting body in at
@@ -136,21 +126,20 @@ fn match_pairs(pairs: &[Pair], bodies: &ContactQuery, busy: &mut HashSet<Entity>
     let mut matched = Vec::new();
     for pair in pairs {
         let entities = [pair.entity_a, pair.entity_b];
-        let (Some((ca, sa)), Some((cb, sb))) = (body_state(bodies, entities[0]), body_state(bodies, entities[1]))
-        else {
+        let (Some(a), Some(b)) = (body_state(bodies, entities[0]), body_state(bodies, entities[1])) else {
             continue;
         };
-        let contacts = [ca, cb];
-        let taken = |k: usize| contacts[k].interacts && busy.contains(&entities[k]);
-        if (!ca.interacts && !cb.interacts) || taken(0) || taken(1) {
+        let states = [a, b];
+        let taken = |k: usize| states[k].interacts && busy.contains(&entities[k]);
+        if (!a.interacts && !b.interacts) || taken(0) || taken(1) {
             continue;
         }
-        for (entity, contact) in entities.iter().zip(&contacts) {
-            if contact.interacts {
+        for (entity, state) in entities.iter().zip(&states) {
+            if state.interacts {
                 busy.insert(*entity);
             }
         }
-        matched.push((entities, contacts, [sa, sb]));
+        matched.push((entities, states));
     }
     matched
 }
@@ -165,7 +154,7 @@ fn apply_outcomes(
     pending: &mut PendingShatters,
 ) -> usize {
     let mut responses = 0;
-    for ((entities, _, states), outcome) in matched.iter().zip(outcomes) {
+    for ((entities, states), outcome) in matched.iter().zip(outcomes) {
         let motions = match outcome {
             Outcome::Ignore => continue,
             Outcome::Shatter => {
@@ -226,7 +215,7 @@ fn respond_to_pairs(
         .map_chunks(matched.as_slice(), |chunk: &[Matched]| {
             chunk
                 .iter()
-                .map(|(_, [a, b], _)| respond(a, b, threshold, dt))
+                .map(|(_, [a, b])| respond(&a.into(), &b.into(), threshold, dt))
                 .collect::<Vec<_>>()
         })
         .concat();
