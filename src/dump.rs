@@ -12,6 +12,7 @@ pub const HEADER: &str = "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts";
 
 /// Writes the header and one row per body, in the order given.
 pub fn write_csv(bodies: &[BodyState], mut out: impl Write) -> io::Result<()> {
+    BodyState::check_all_finite(bodies)?;
     writeln!(out, "{HEADER}")?;
     for b in bodies {
         let (p, v, h) = (b.position, b.velocity, b.half_extents);

@@ -78,7 +78,7 @@ impl Timeline {
     pub fn run(&mut self, sim: &mut Simulation, updates: u64, mut progress: impl FnMut(u64)) {
         self.record(sim, 0);
         let mut done = 0;
-        while done < updates {
+        while done < updates && sim.fault().is_none() {
             let n = self.every.min(updates - done);
             sim.step(n);
             done += n;

@@ -38,8 +38,24 @@ fn every_malformed_scenario_is_a_clear_error() {
 #[test]
 fn bad_arguments_are_clear_errors() {
     let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
-    let cases: [(&[&str], &str); 18] = [
-        (&["headless", scenario, "--steps", "-5"], "--steps"),
+    let cases: [(&[&str], &str); 22] = [
+        (
+            &["headless", scenario, "--steps", "-5"],
+            "invalid value '-5' for '--steps <STEPS>': must be a whole number from 0 to 1000000000000",
+        ),
+        (
+            &["headless", scenario, "--steps", "18446744073709551615"],
+            "--steps <STEPS>': must be a whole number from 0 to 1000000000000",
+        ),
+        (
+            &["run", "--bodies", "100000000"],
+            "--bodies <N>': must be a whole number from 0 to 2000000",
+        ),
+        (
+            &["run", "--bodies", "18446744073709551615"],
+            "--bodies <N>': must be a whole number from 0 to 2000000",
+        ),
+        (&["run", "--bodies", "-1"], "--bodies <N>': must be a whole number"),
         (&["headless", scenario, "--steps", "ten"], "--steps"),
         (&["headless", scenario], "--steps"),
         (&["headless", scenario, "--steps", "1", "--mode", "fast"], "--mode"),
@@ -129,4 +145,255 @@ fn missing_file_is_a_clear_error() {
     let out = kessler().args(["validate", "no_such_scenario.ron"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert_one_clear_line(&out.stderr, &["no_such_scenario.ron", "cannot read"]);
+}
+
+/// A command on `path` that must answer exit 2 at once, naming the path
+/// and the problem.
+fn refused_at_once(args: &[&std::ffi::OsStr], needles: &[&str]) {
+    let start = std::time::Instant::now();
+    let out = kessler()
+        .args(args)
+        .timeout(std::time::Duration::from_secs(60))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {out:?}");
+    assert_one_clear_line(&out.stderr, needles);
+    assert!(start.elapsed().as_secs() < 30, "{args:?} took {:?}", start.elapsed());
+}
+
+#[cfg(unix)]
+fn make_fifo(path: &std::path::Path) {
+    let made = std::process::Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(made.success(), "mkfifo {}", path.display());
+}
+
+fn os(s: &str) -> &std::ffi::OsStr {
+    std::ffi::OsStr::new(s)
+}
+
+/// A FIFO would block every reader until someone writes, `/dev/zero` never
+/// ends: inputs are regular files, refused otherwise at once.
+#[cfg(unix)]
+#[test]
+fn special_files_as_inputs_are_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("f.ron");
+    make_fifo(&fifo);
+    let fifo_text = fifo.to_str().unwrap();
+    for command in [
+        &[os("validate"), fifo.as_os_str()][..],
+        &[os("headless"), fifo.as_os_str(), os("--steps"), os("1")],
+        &[os("pairs"), fifo.as_os_str()],
+    ] {
+        refused_at_once(command, &[fifo_text, "is a FIFO (named pipe), not a regular file"]);
+    }
+    for device in ["/dev/zero", "/dev/urandom"] {
+        refused_at_once(&[os("validate"), os(device)], &[device, "is a character device"]);
+    }
+    // A benchmark config naming a FIFO as its scenario.
+    let config = dir.path().join("b.ron");
+    std::fs::write(
+        &config,
+        format!("Bench(scenario: {fifo_text:?}, runs: [Run(bodies: 10, updates: 1)])"),
+    )
+    .unwrap();
+    let out = dir.path().join("r.csv");
+    refused_at_once(
+        &[os("bench"), config.as_os_str(), os("--out"), out.as_os_str()],
+        &[fifo_text, "not a regular file"],
+    );
+    assert!(!out.exists());
+}
+
+/// Outputs replace regular files only: a FIFO, a device or a link is
+/// refused and left as it was; a path that cannot be written is found
+/// before any work.
+#[cfg(unix)]
+#[test]
+fn outputs_that_are_not_regular_files_or_cannot_be_written_are_refused_before_work() {
+    use std::os::unix::fs::FileTypeExt;
+
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("bench.ron");
+    std::fs::write(&config, "Bench(runs: [Run(bodies: 10, updates: 1)])").unwrap();
+    let bench = config.to_str().unwrap();
+    let fifo = dir.path().join("f.csv");
+    make_fifo(&fifo);
+    let target = dir.path().join("target.csv");
+    std::fs::write(&target, "precious").unwrap();
+    let link = dir.path().join("link.csv");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let existing_slash = format!("{}/", target.display());
+    let new_dir_slash = format!("{}/newdir/", dir.path().display());
+    for (flag, path, needle) in [
+        (
+            "--dump",
+            fifo.to_str().unwrap(),
+            "is a FIFO (named pipe); outputs replace regular files only",
+        ),
+        (
+            "--dump",
+            "/dev/null",
+            "is a character device; outputs replace regular files only",
+        ),
+        (
+            "--timeline",
+            link.to_str().unwrap(),
+            "is a symbolic link; outputs replace regular files only",
+        ),
+        ("--save-scenario", link.to_str().unwrap(), "is a symbolic link"),
+        ("--dump", &existing_slash, "is a directory; give a file name"),
+        ("--dump", "/proc/x.csv", "cannot write in folder /proc"),
+    ] {
+        refused_at_once(
+            &[
+                os("headless"),
+                os(scenario),
+                os("--steps"),
+                os("100000000"),
+                os(flag),
+                os(path),
+            ],
+            &[flag, path, needle],
+        );
+    }
+    for (path, needle) in [
+        ("/proc/x.csv", "cannot write in folder /proc"),
+        (new_dir_slash.as_str(), "is a directory; give a file name"),
+    ] {
+        refused_at_once(&[os("bench"), os(bench), os("--out"), os(path)], &["--out", needle]);
+    }
+    assert!(
+        std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo(),
+        "the FIFO was replaced"
+    );
+    assert!(
+        std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(),
+        "the link was replaced"
+    );
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "precious");
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+}
+
+/// A scene valid at the start whose bodies then pile up (a cold cloud of
+/// non-interacting cubes collapsing under its own gravity): the run stops
+/// with one line naming the update, exit 3, and writes none of its outputs.
+#[test]
+fn a_run_whose_bodies_pile_up_stops_with_a_message_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("pile.ron");
+    std::fs::write(
+        &scenario,
+        "Scenario(gravitational_constant: 1.0, time_step: 0.1, softening: 0.5, generators: [Cloud(count: 3000, \
+         center: (0, 0, 0), half_size: (50, 50, 50), body: (half_extents: (3, 3, 3), role: SourceAndAdopter, \
+         interacts: false))])",
+    )
+    .unwrap();
+    let out = kessler().arg("validate").arg(&scenario).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "valid at the start: {out:?}");
+    let dump = dir.path().join("state.csv");
+    std::fs::write(&dump, "precious").unwrap();
+    let timeline = dir.path().join("timeline.csv");
+    for mode in ["sequential", "parallel"] {
+        let out = kessler()
+            .args(["headless", "--steps", "300", "--mode", mode, "--dump"])
+            .arg(&dump)
+            .arg("--timeline")
+            .arg(&timeline)
+            .arg(&scenario)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(3), "{mode}: {out:?}");
+        assert_one_clear_line(
+            &out.stderr,
+            &[
+                "pile.ron: update ",
+                "overlap in more than 1048576 pairs",
+                "piled on one another",
+                "the simulation stopped",
+            ],
+        );
+        assert_eq!(std::fs::read_to_string(&dump).unwrap(), "precious", "{mode}");
+        assert!(!timeline.exists(), "{mode}");
+    }
+}
+
+/// A thousand fragments a shatter, with no threshold and no floor: the body
+/// budget holds the cascade (it used to grow until memory ran out).
+#[test]
+fn a_cascade_without_floor_or_threshold_stays_within_the_budget() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("cascade.ron");
+    std::fs::write(
+        &scenario,
+        "Scenario(generators: [Cloud(count: 2000, center: (0, 0, 0), half_size: (20, 20, 20), max_speed: 1.0)], \
+         shatter_fragments: 1000, shatter_threshold: 0, min_fragment_size: 0, max_bodies: 30000)",
+    )
+    .unwrap();
+    let out = kessler()
+        .args(["headless", "--steps", "20"])
+        .arg(&scenario)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let summary = String::from_utf8_lossy(&out.stdout);
+    let at_end: u64 = summary
+        .split(" at the end")
+        .next()
+        .and_then(|s| s.rsplit('(').next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no body count in {summary}"));
+    assert!((2000..=30_000).contains(&at_end), "{at_end} bodies: {summary}");
+    assert!(!summary.contains(" 0 refused"), "the budget refused nothing: {summary}");
+}
+
+/// Messages stay one line of sane length whatever the input put in them.
+#[test]
+fn echoes_of_the_input_are_cut_and_kept_on_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = dir.path().join("long.ron");
+    std::fs::write(&long, format!("Scenario({}: 1)", "a".repeat(100_000))).unwrap();
+    let out = kessler().arg("validate").arg(&long).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert_one_clear_line(&out.stderr, &["long.ron", "characters cut]"]);
+    assert!(out.stderr.len() < 1000, "{} bytes", out.stderr.len());
+
+    let odd = dir.path().join("two\nlines.ron");
+    std::fs::write(&odd, "Scenario(mass: 1)").unwrap();
+    let out = kessler().arg("validate").arg(&odd).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert_one_clear_line(&out.stderr, &["two\\nlines.ron"]);
+}
+
+/// In a build without the window, `run` checks its input before it says
+/// that it runs headless instead: a bad input is one line.
+#[cfg(not(feature = "gui"))]
+#[test]
+fn headless_run_with_bad_input_is_one_line() {
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
+    let out = kessler().args(["run", scenario, "--bodies", "10"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert_one_clear_line(&out.stderr, &["--bodies"]);
+}
+
+#[test]
+fn a_sequential_summary_says_one_thread() {
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
+    let out = kessler()
+        .args([
+            "headless",
+            scenario,
+            "--steps",
+            "3",
+            "--mode",
+            "sequential",
+            "--threads",
+            "2",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let summary = String::from_utf8_lossy(&out.stdout);
+    assert!(summary.contains("sequential on 1 thread"), "{summary}");
 }

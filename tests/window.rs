@@ -12,6 +12,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::{Duration, Instant};
 
 /// Why the window cannot be opened here, if it cannot.
 fn missing_window_tools() -> Option<String> {
@@ -62,13 +63,26 @@ fn window_available(test: &str) -> bool {
 /// Runs the window app under a virtual X server; returns the screenshot,
 /// stdout and stderr.
 fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBuf, String, String) {
+    let (shot, stdout, stderr, _) = run_window_frames(dir, name, settings, 20, extra);
+    (shot, stdout, stderr)
+}
+
+/// [`run_window`] for `frames` frames; also returns how long the run took.
+fn run_window_frames(
+    dir: &Path,
+    name: &str,
+    settings: &str,
+    frames: u64,
+    extra: &[&str],
+) -> (PathBuf, String, String, Duration) {
     let shot = dir.join(format!("{name}.png"));
     let settings_path = dir.join(format!("{name}-settings.ron"));
     std::fs::write(&settings_path, settings).unwrap();
+    let started = Instant::now();
     let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1280x800x24"])
         .arg(env!("CARGO_BIN_EXE_kessler"))
-        .args(["run", "--frames", "20", "--screenshot"])
+        .args(["run", "--frames", &frames.to_string(), "--screenshot"])
         .arg(&shot)
         .arg("--settings")
         .arg(&settings_path)
@@ -76,6 +90,7 @@ fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBu
         .env("WGPU_BACKEND", "vulkan")
         .output()
         .expect("xvfb-run runs");
+    let took = started.elapsed();
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(
@@ -85,7 +100,7 @@ fn run_window(dir: &Path, name: &str, settings: &str, extra: &[&str]) -> (PathBu
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(shot.exists(), "{name}: no screenshot\n{stderr}");
-    (shot, stdout, stderr)
+    (shot, stdout, stderr, took)
 }
 
 struct Picture {
@@ -296,6 +311,78 @@ fn broken_settings_warn_and_survive_a_run() {
     );
     let kept = std::fs::read_to_string(dir.path().join("broken-settings.ron")).unwrap();
     assert_eq!(kept, broken, "an unchanged session must not rewrite the file");
+}
+
+/// The `kessler: warning: ` lines of a run's stderr that name `file`.
+fn warnings_about<'a>(stderr: &'a str, file: &str) -> Vec<&'a str> {
+    stderr
+        .lines()
+        .filter(|line| line.starts_with("kessler: warning: ") && line.contains(file))
+        .collect()
+}
+
+#[test]
+fn out_of_range_settings_warn_once_and_survive_a_run_byte_for_byte() {
+    if !window_available("out_of_range_settings_warn_once_and_survive_a_run_byte_for_byte") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    // Out of range: more threads than the window offers on this machine
+    // (twice its hardware threads), more fragments than a shatter may make,
+    // a negative threshold. The command line adds one-run choices.
+    let text = "(\n    threads: 256,\n    shatter_fragments: 5000,\n    shatter_threshold: -1.0,\n)\n";
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/cascade.ron");
+    let (.., stderr) = run_window(
+        dir.path(),
+        "out-of-range",
+        text,
+        &[scenario, "--bodies", "200", "--paused", "--render", "shared-mesh"],
+    );
+    let warnings = warnings_about(&stderr, "out-of-range-settings.ron");
+    assert_eq!(warnings.len(), 1, "one warning line about the file:\n{stderr}");
+    let hardware = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut said = vec!["shatter_fragments 5000", "shatter_threshold -1.0", "using"];
+    if hardware * 2 < 256 {
+        said.push("threads 256");
+    }
+    for said in said {
+        assert!(warnings[0].contains(said), "{said:?} not in {}", warnings[0]);
+    }
+    let kept = std::fs::read_to_string(dir.path().join("out-of-range-settings.ron")).unwrap();
+    assert_eq!(kept, text, "an unchanged session must not rewrite the file");
+}
+
+#[test]
+fn settings_beyond_the_panels_sliders_and_one_run_choices_are_not_saved() {
+    if !window_available("settings_beyond_the_panels_sliders_and_one_run_choices_are_not_saved") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    // Allowed values past the ends of the panel's sliders: the panel used
+    // to clamp them, which counted as a change and saved the session's
+    // settings, `--bodies` included.
+    let text = "(shatter_fragments: 50, shatter_threshold: 100.0, gravity_method: Tree(theta: 1.9))";
+    let (.., stderr) = run_window(dir.path(), "beyond", text, &["--bodies", "200", "--paused"]);
+    assert!(
+        warnings_about(&stderr, "beyond-settings.ron").is_empty(),
+        "allowed values need no warning:\n{stderr}"
+    );
+    let kept = std::fs::read_to_string(dir.path().join("beyond-settings.ron")).unwrap();
+    assert_eq!(kept, text, "no body_count, nothing clamped: the file is not rewritten");
+}
+
+#[test]
+fn a_scripted_run_of_a_scene_without_cubes_does_not_wait_for_them() {
+    if !window_available("a_scripted_run_of_a_scene_without_cubes_does_not_wait_for_them") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("empty.ron");
+    std::fs::write(&scenario, "Scenario()").unwrap();
+    let (.., took) = run_window_frames(dir.path(), "no-cubes", "()", 5, &[scenario.to_str().unwrap()]);
+    // A bound on a hang (the wait for bodies gives up after 120 s), not a
+    // speed test.
+    assert!(took < Duration::from_secs(60), "took {took:?}");
 }
 
 #[test]

@@ -9,7 +9,7 @@ use serde::{Deserialize, Deserializer};
 use crate::WINDOW_BUILD;
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy};
-use crate::input::{InputError, body_count, load_ron, read, whole_at_least, whole_between};
+use crate::input::{InputError, body_count, load_ron, read, whole_between};
 use crate::scenario::{MAX_BODIES, Scenario, checked};
 
 /// A benchmark: runs of one scenario at several sizes and execution modes.
@@ -142,7 +142,7 @@ fn bodies<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
 }
 
 fn updates<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
-    whole_at_least(d, "updates", 1)
+    whole_between(d, "updates", 1, crate::input::MAX_UPDATES)
 }
 
 fn threads<'de, D: Deserializer<'de>>(d: D) -> Result<Option<usize>, D::Error> {

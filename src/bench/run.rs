@@ -49,6 +49,9 @@ pub enum RunError {
     /// The scenario's bodies could not be made.
     #[error(transparent)]
     Scenario(#[from] InputError),
+    /// The simulation stopped at a fault (the line names the update).
+    #[error("{0}")]
+    Stopped(String),
 }
 
 /// How runs execute where they do not say: the split policy (`--split`)
@@ -89,6 +92,9 @@ pub fn measure(
     sim.timings_mut().reset();
     let bodies_start = sim.body_count();
     sim.step_reporting(run.updates, 100, &mut progress);
+    if let Some(fault) = sim.check_state() {
+        return Err(RunError::Stopped(fault));
+    }
     let bodies_end = sim.body_count();
     let timings = sim.timings();
     Ok(RunResult {

@@ -96,7 +96,7 @@ pub fn auto_split_from(path: &Path) -> (AutoSplit, Option<String>) {
 pub fn machine_auto_split() -> AutoSplit {
     let (auto, warning) = auto_split_from(&default_calibration_path());
     if let Some(warning) = warning {
-        eprintln!("kessler: warning: {warning}");
+        eprintln!("kessler: warning: {}", crate::output::printable(&warning));
     }
     auto
 }

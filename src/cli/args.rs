@@ -131,8 +131,9 @@ pub struct RunArgs {
     /// How to draw the bodies (overrides the saved setting).
     #[arg(long, value_enum)]
     pub render: Option<RenderArg>,
-    /// Generated bodies (overrides the saved setting).
-    #[arg(long, value_name = "N")]
+    /// Generated bodies, at most 2 000 000 (overrides the scenario's count
+    /// for this run).
+    #[arg(long, value_name = "N", value_parser = crate::input::run_bodies_arg, allow_negative_numbers = true)]
     pub bodies: Option<u64>,
     /// Start with the simulation paused (to measure rendering alone).
     #[arg(long)]
@@ -201,8 +202,8 @@ impl From<OnOff> for bool {
 pub struct HeadlessArgs {
     /// Scenario file (RON).
     pub scenario: PathBuf,
-    /// Number of simulation updates.
-    #[arg(long, allow_negative_numbers = true)]
+    /// Number of simulation updates (at most 10^12).
+    #[arg(long, value_parser = crate::input::updates_arg, allow_negative_numbers = true)]
     pub steps: u64,
     /// How the simulation executes.
     #[command(flatten)]

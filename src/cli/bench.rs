@@ -205,7 +205,11 @@ struct BenchProgress {
 
 impl BenchProgress {
     fn new(config: &BenchConfig, passes: u64) -> Self {
-        let total: u64 = config.update_runs().map(|(_, r)| r.updates + 1).sum::<u64>() * passes;
+        // Each count is at most 10^12 (MAX_UPDATES); saturating all the same.
+        let total = config
+            .update_runs()
+            .fold(0_u64, |sum, (_, r)| sum.saturating_add(r.updates + 1))
+            .saturating_mul(passes);
         let bar = ProgressBar::new(total).with_style(
             ProgressStyle::with_template("{spinner} [{bar:30}] {pos}/{len} updates, eta {eta} — {msg}")
                 .expect("template is valid")
@@ -250,9 +254,10 @@ impl BenchProgress {
                 peak as f64 / result.bodies_start.max(1) as f64
             )
         });
-        let split = match result.mode {
-            crate::execution::ExecutionMode::Sequential => String::new(),
-            _ => format!(", split {}", result.split),
+        // A sequential run uses one thread, whatever the run's `threads`.
+        let (threads, split) = match result.mode {
+            crate::execution::ExecutionMode::Sequential => (1, String::new()),
+            _ => (result.threads, format!(", split {}", result.split)),
         };
         let line = format!(
             "run {:>3}{}: {:>8} bodies, {:>10} on {:>2} thread(s){split}: {:>12.3} ms/update{memory}",
@@ -260,7 +265,7 @@ impl BenchProgress {
             self.of_passes,
             result.bodies_start,
             result.mode.name(),
-            result.threads,
+            threads,
             result.update_ns / 1e6
         );
         // A hidden bar (stderr not a terminal) drops its lines: print them.

@@ -7,11 +7,17 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::Failure;
 use crate::calibration::{calibrate, load_calibration};
 use crate::execution::available_threads;
+use crate::output::check_replaceable;
 use crate::user_files::default_calibration_path;
 
 /// Runs the command.
 pub fn calibrate_command(threads: Option<usize>, out: Option<&Path>) -> Result<(), Failure> {
     let threads = threads.unwrap_or_else(available_threads);
+    // A path given is checked before the measuring; the default one's
+    // folder is made if missing.
+    if let Some(out) = out {
+        check_replaceable("--out", out)?;
+    }
     let path = out.map_or_else(default_calibration_path, Path::to_owned);
     let bar = ProgressBar::new(0).with_style(
         ProgressStyle::with_template("{spinner} calibrating [{bar:30}] {pos}/{len} runs, eta {eta}")

@@ -5,6 +5,8 @@ use std::process::ExitCode;
 use clap::Parser;
 use clap::error::ErrorKind;
 
+use crate::output::printable;
+
 use super::{Cli, Command, EXIT_BAD_INPUT, Failure, RunArgs, bench, calibrate, headless, pairs, run, validate};
 
 /// Entry point of the binary.
@@ -23,7 +25,7 @@ pub fn main() -> ExitCode {
     match dispatch(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
-            eprintln!("kessler: error: {}", f.message);
+            eprintln!("kessler: error: {}", printable(&f.message));
             ExitCode::from(f.code)
         }
     }
@@ -38,7 +40,7 @@ fn one_line(rendered: &str) -> String {
         .filter(|l| !l.is_empty() && !l.starts_with("Usage:") && !l.starts_with("For more information"))
         .map(|l| l.trim_start_matches("error: "))
         .collect();
-    format!("{} (see `kessler --help`)", parts.join(" "))
+    printable(&format!("{} (see `kessler --help`)", parts.join(" ")))
 }
 
 fn dispatch(command: Option<Command>) -> Result<(), Failure> {

@@ -16,6 +16,10 @@ pub const EXIT_BAD_INPUT: u8 = 2;
 /// fills up, a window that cannot open).
 pub const EXIT_FAILURE: u8 = 1;
 
+/// Exit code for a simulation that stopped because its state could not be
+/// computed any more (a non-finite value, a pile-up of bodies).
+pub const EXIT_SIMULATION_STOPPED: u8 = 3;
+
 /// Why a command failed: one line for stderr and an exit code.
 #[derive(Debug)]
 pub struct Failure {
@@ -42,6 +46,14 @@ impl Failure {
         }
     }
 
+    /// A simulation that stopped at a fault: exit code 3.
+    pub fn stopped(message: impl fmt::Display) -> Self {
+        Self {
+            message: message.to_string(),
+            code: EXIT_SIMULATION_STOPPED,
+        }
+    }
+
     /// The same failure with `context` (an option, a file) before its message.
     pub fn context(self, context: impl fmt::Display) -> Self {
         Self {
@@ -65,8 +77,21 @@ macro_rules! failure_from {
     )*};
 }
 
-failure_from!(EXIT_BAD_INPUT => InputError, OutputError, NoGenerators, ExecutionError, RunError);
+failure_from!(EXIT_BAD_INPUT => InputError, OutputError, NoGenerators, ExecutionError);
 failure_from!(EXIT_FAILURE => WriteError, BenchOutputError);
+
+impl From<RunError> for Failure {
+    fn from(e: RunError) -> Self {
+        let code = match e {
+            RunError::Stopped(_) => EXIT_SIMULATION_STOPPED,
+            _ => EXIT_BAD_INPUT,
+        };
+        Self {
+            message: e.to_string(),
+            code,
+        }
+    }
+}
 
 #[cfg(feature = "gui")]
 impl From<crate::ui::WindowError> for Failure {

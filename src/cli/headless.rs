@@ -84,6 +84,10 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
     }
     progress.finish_and_clear();
     let elapsed = start.elapsed();
+    // A state that is not finite is never written: no output is touched.
+    if let Some(fault) = sim.check_state() {
+        return Err(Failure::stopped(format!("{}: {fault}", scenario.origin)));
+    }
 
     // The final state, gathered once for whichever outputs want it.
     let bodies = if dump_path.is_some() || outputs.scenario.is_some() {

@@ -15,7 +15,8 @@ pub fn pairs(path: &Path, args: &ExecutionArgs) -> Result<(), Failure> {
     let bodies = Scenario::load(path)?.bodies()?;
     let boxes: Vec<Aabb> = bodies.iter().map(|b| Aabb::new(b.position, b.half_extents)).collect();
     let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();
-    let found = sweep_and_prune(boxes.as_slice(), &execution(args)?, &mut SortedBoxes::default());
+    let found = sweep_and_prune(boxes.as_slice(), &execution(args)?, &mut SortedBoxes::default())
+        .map_err(|e| Failure::input(format!("{}: {e}", path.display())))?;
     let mut out = BufWriter::new(std::io::stdout().lock());
     let written = (|| {
         writeln!(out, "a,b")?;

@@ -25,10 +25,6 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
              --frames, --screenshot, --render, --vsync, --ups and --frame-report need it",
         ));
     }
-    eprintln!(
-        "kessler: the interactive window is not part of this build (cargo feature `gui`); \
-         simulating {RUN_UPDATES} updates headless instead (see `kessler headless --help`)"
-    );
     let mut scenario = Scenario::load_or_default(args.scenario.as_deref())?;
     if let Some(count) = args.bodies {
         scenario = scenario
@@ -39,6 +35,11 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
     let execution = Execution::all_cores(mode)?
         .with_split(args.split.unwrap_or_default())
         .with_auto_split(crate::calibration::machine_auto_split());
+    // Said once everything is checked, so that a bad input is one line.
+    eprintln!(
+        "kessler: the interactive window is not part of this build (cargo feature `gui`); \
+         simulating {RUN_UPDATES} updates headless instead (see `kessler headless --help`)"
+    );
     super::headless::simulate(&scenario, execution, RUN_UPDATES, super::headless::Outputs::default())
 }
 

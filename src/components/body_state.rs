@@ -61,6 +61,26 @@ pub struct BodyState {
 }
 
 impl BodyState {
+    /// Fails, naming the first body (in the order given) whose position,
+    /// previous position, velocity, mass or size is not finite: what every
+    /// writer of bodies (dump, snapshot) checks before writing anything.
+    pub fn check_all_finite(bodies: &[Self]) -> std::io::Result<()> {
+        let finite = |b: &&Self| {
+            b.position.is_finite()
+                && b.previous.is_finite()
+                && b.velocity.is_finite()
+                && b.half_extents.is_finite()
+                && b.mass.is_finite()
+        };
+        match bodies.iter().find(|b| !finite(b)) {
+            None => Ok(()),
+            Some(b) => Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("body {} has a non-finite state; nothing was written", b.id.0),
+            )),
+        }
+    }
+
     /// A box that starts where it is (its previous position is its
     /// position): what scenarios and shatters create.
     pub fn new_box(

@@ -4,9 +4,11 @@
 mod checked;
 mod error;
 mod file;
+mod limits;
 mod ron_text;
 
 pub use checked::*;
 pub use error::*;
 pub use file::*;
+pub use limits::*;
 pub use ron_text::*;

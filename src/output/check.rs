@@ -4,6 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::input::node_kind;
+
 /// An output path that cannot be used, named with the option that gave it.
 #[derive(Debug, thiserror::Error)]
 #[error("{flag} {}{problem}", path.display())]
@@ -22,9 +24,16 @@ pub enum OutputProblem {
     /// The folder it would go into does not exist.
     #[error(": folder {} does not exist", .0.display())]
     FolderMissing(PathBuf),
-    /// It is a folder.
-    #[error(": is a directory")]
+    /// It is a folder, or names one (ends in `/`).
+    #[error(": is a directory; give a file name")]
     IsDirectory,
+    /// Something other than a regular file is there (a FIFO, a device, a
+    /// symbolic link), which outputs neither replace nor write through.
+    #[error(": is {0}; outputs replace regular files only")]
+    NotRegular(&'static str),
+    /// Its folder exists but no file can be made in it.
+    #[error(": cannot write in folder {}: {}", .0.display(), .1)]
+    FolderUnwritable(PathBuf, std::io::Error),
     /// Something is there, and this output never overwrites; the text says
     /// what to do instead.
     #[error(" exists already; {0}")]
@@ -45,20 +54,43 @@ fn problem(flag: &str, path: &Path, problem: OutputProblem) -> OutputError {
     }
 }
 
-/// Checks that `path` (given as `flag`) can be written, replacing any file
-/// there: it is not a folder and its folder exists.
+/// Checks that `path` (given as `flag`) can be written, replacing any
+/// regular file there: it does not name a folder, nothing but a regular
+/// file is there, and a file can be made in its folder.
+///
+/// Only regular files are replaced: a FIFO, a device or a symbolic link is
+/// refused rather than written through or replaced (writing "over"
+/// `/dev/null` as root would otherwise replace the system's `/dev/null`
+/// with a file).
 pub fn check_replaceable(flag: &str, path: &Path) -> Result<(), OutputError> {
-    if path.is_dir() {
-        return Err(problem(flag, path, OutputProblem::IsDirectory));
+    let fail = |p| Err(problem(flag, path, p));
+    let text = path.as_os_str().to_string_lossy();
+    if path.is_dir() || text.ends_with(std::path::MAIN_SEPARATOR) || text.ends_with('/') {
+        return fail(OutputProblem::IsDirectory);
+    }
+    if let Ok(metadata) = path.symlink_metadata()
+        && !metadata.is_file()
+    {
+        return fail(OutputProblem::NotRegular(node_kind(metadata.file_type())));
     }
     let folder = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     if !folder.is_dir() {
-        return Err(problem(flag, path, OutputProblem::FolderMissing(folder.to_owned())));
+        return fail(OutputProblem::FolderMissing(folder.to_owned()));
+    }
+    if let Err(e) = probe_folder(folder) {
+        return fail(OutputProblem::FolderUnwritable(folder.to_owned(), e));
     }
     Ok(())
+}
+
+/// Makes and removes a file in `folder`: whether outputs can be written
+/// there (permissions, a read-only or virtual file system like `/proc`).
+fn probe_folder(folder: &Path) -> std::io::Result<()> {
+    let probe = tempfile::Builder::new().prefix(".kessler-probe").tempfile_in(folder)?;
+    probe.close()
 }
 
 /// Checks that `path` (given as `flag`) can be written and that nothing is
@@ -96,7 +128,7 @@ mod tests {
         let e = check_replaceable("--dump", dir.path()).unwrap_err();
         assert_eq!(
             e.to_string(),
-            format!("--dump {}: is a directory", dir.path().display())
+            format!("--dump {}: is a directory; give a file name", dir.path().display())
         );
         let e = check_replaceable("--dump", &missing).unwrap_err();
         assert_eq!(
@@ -115,5 +147,45 @@ mod tests {
         let e = check_extension("--screenshot", &taken, "png").unwrap_err();
         assert!(e.to_string().ends_with("taken.csv: must be a .png file"), "{e}");
         assert!(check_extension("--screenshot", Path::new("a.PNG"), "png").is_ok());
+    }
+
+    #[test]
+    fn a_path_ending_in_a_slash_names_a_folder_even_if_none_is_there() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("existing.csv");
+        std::fs::write(&file, "x").unwrap();
+        for named in [format!("{}/", file.display()), format!("{}/new/", dir.path().display())] {
+            let e = check_replaceable("--dump", Path::new(&named)).unwrap_err();
+            assert!(matches!(e.problem, OutputProblem::IsDirectory), "{e}");
+        }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn special_files_and_links_are_neither_replaced_nor_written_through() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("f.csv");
+        crate::input::make_fifo(&fifo);
+        let link = dir.path().join("l.csv");
+        std::os::unix::fs::symlink(dir.path().join("target.csv"), &link).unwrap();
+        for (path, kind) in [
+            (fifo.as_path(), "a FIFO"),
+            (Path::new("/dev/null"), "a character device"),
+            (link.as_path(), "a symbolic link"),
+        ] {
+            let e = check_replaceable("--dump", path).unwrap_err();
+            assert!(e.to_string().contains(&format!(": is {kind}")), "{e}");
+        }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_folder_where_no_file_can_be_made_is_found_before_any_work() {
+        let e = check_replaceable("--dump", Path::new("/proc/x.csv")).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("--dump /proc/x.csv: cannot write in folder /proc: "),
+            "{e}"
+        );
     }
 }

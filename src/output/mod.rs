@@ -5,9 +5,11 @@
 mod appended;
 mod atomic;
 mod check;
+mod message;
 mod png_image;
 
 pub use appended::*;
 pub use atomic::*;
 pub use check::*;
+pub use message::*;
 pub use png_image::*;

@@ -9,6 +9,7 @@ use ron::extensions::Extensions;
 use super::checked::MAX_BODIES;
 use super::format::{Generator, Scenario, Shape, Shell};
 use super::generators;
+use super::start::check_start;
 use crate::components::{BodyId, BodyState};
 use crate::input::{InputError, parse_ron, read_text};
 use crate::resources::SimulationSettings;
@@ -218,6 +219,7 @@ impl Scenario {
             }
             first_id += generator.count();
         }
+        check_start(&out, &self.settings()).map_err(|e| InputError::new(&self.origin, e))?;
         Ok(out)
     }
 }

@@ -8,6 +8,7 @@ pub mod generators;
 mod load;
 mod scale;
 mod snapshot;
+mod start;
 
 pub use builtin::*;
 pub use checked::{MAX_BODIES, MAX_FRAGMENTS};

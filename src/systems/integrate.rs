@@ -9,10 +9,10 @@ use std::time::Instant;
 
 use bevy::prelude::*;
 
-use crate::components::{Position, PreviousPosition, Velocity};
+use crate::components::{BodyId, Position, PreviousPosition, Velocity};
 use crate::execution::Execution;
 use crate::resources::SimulationSettings;
-use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
+use crate::systems::{SimulationFault, SimulationSystems, SimulationUpdate, StageTimings, first_non_finite};
 
 /// The columns the integration kernel reads and writes.
 pub type IntegrateColumns<'a> = (&'a [Velocity], &'a mut [Position], &'a mut [PreviousPosition]);
@@ -28,31 +28,46 @@ impl Plugin for IntegratePlugin {
 
 /// Kernel: the drift of the semi-implicit Euler step for the bodies in the
 /// columns, with the velocities the gravity stage's kick left: the position
-/// is kept as the previous one, then moves by `v·dt`.
-pub fn integrate_kernel((velocities, positions, previous): IntegrateColumns<'_>, dt: f32) {
+/// is kept as the previous one, then moves by `v·dt`. Returns whether every
+/// new position and velocity is finite (the check costs next to nothing in
+/// this pass over the same data).
+pub fn integrate_kernel((velocities, positions, previous): IntegrateColumns<'_>, dt: f32) -> bool {
+    let mut finite = true;
     for ((v, p), prev) in velocities.iter().zip(positions).zip(previous) {
         prev.0 = p.0;
         p.0 += v.0 * dt;
+        finite &= p.0.is_finite() & v.0.is_finite();
     }
+    finite
 }
 
 fn integrate(
     settings: Res<SimulationSettings>,
     execution: Res<Execution>,
     mut timings: ResMut<StageTimings>,
-    mut bodies: Query<(&Velocity, &mut Position, &mut PreviousPosition)>,
+    mut bodies: Query<(&BodyId, &Velocity, &mut Position, &mut PreviousPosition)>,
+    mut fault: ResMut<SimulationFault>,
 ) {
     let start = Instant::now();
     let dt = settings.time_step;
     let stage = execution.for_stage(SimulationSystems::Integrate.name(), bodies.iter().len());
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
-    for (velocities, mut positions, mut previous) in tables {
+    let mut finite = true;
+    for (_, velocities, mut positions, mut previous) in tables {
         let columns = (
             velocities,
             positions.bypass_change_detection(),
             previous.bypass_change_detection(),
         );
-        stage.for_chunks(columns, |columns| integrate_kernel(columns, dt));
+        finite &= stage
+            .map_chunks(columns, |columns| integrate_kernel(columns, dt))
+            .into_iter()
+            .all(|chunk| chunk);
+    }
+    if !finite {
+        // Rare: find which body, by the lowest id.
+        let found = first_non_finite(bodies.iter().map(|(id, v, p, _)| (id, p, v)));
+        fault.stop(found.expect("a non-finite value was seen"));
     }
     timings.record(SimulationSystems::Integrate, start.elapsed());
 }
@@ -66,7 +81,7 @@ mod tests {
         let v = [Velocity(Vec3::new(1.0, -2.0, 0.0)), Velocity(Vec3::ZERO)];
         let mut p = [Position(Vec3::new(10.0, 0.0, 0.0)), Position(Vec3::new(3.0, 4.0, 5.0))];
         let mut prev = [PreviousPosition::default(); 2];
-        integrate_kernel((&v, &mut p, &mut prev), 0.5);
+        assert!(integrate_kernel((&v, &mut p, &mut prev), 0.5));
         assert_eq!(p[0].0, Vec3::new(10.5, -1.0, 0.0));
         assert_eq!(prev[0].0, Vec3::new(10.0, 0.0, 0.0));
         // A body at rest (a planet) stays put.
@@ -74,5 +89,16 @@ mod tests {
             (p[1].0, prev[1].0),
             (Vec3::new(3.0, 4.0, 5.0), Vec3::new(3.0, 4.0, 5.0))
         );
+    }
+
+    #[test]
+    fn an_overflow_is_reported() {
+        let v = [Velocity(Vec3::new(3.0e38, 0.0, 0.0)), Velocity(Vec3::ZERO)];
+        let mut p = [Position(Vec3::new(1.0e38, 0.0, 0.0)), Position(Vec3::ZERO)];
+        let mut prev = [PreviousPosition::default(); 2];
+        assert!(!integrate_kernel((&v, &mut p, &mut prev), 2.0), "3e38 · 2 overflows");
+        let v = [Velocity(Vec3::new(0.0, f32::NAN, 0.0))];
+        let mut p = [Position(Vec3::ZERO)];
+        assert!(!integrate_kernel((&v, &mut p, &mut prev[..1]), 1.0), "NaN stays NaN");
     }
 }

@@ -3,6 +3,7 @@
 
 mod broad_phase;
 mod contact;
+mod fault;
 mod gravity;
 mod gravity_tree;
 mod integrate;
@@ -16,6 +17,7 @@ mod totals;
 
 pub use broad_phase::*;
 pub use contact::*;
+pub use fault::*;
 pub use gravity::*;
 pub use gravity_tree::*;
 pub use integrate::*;

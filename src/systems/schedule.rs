@@ -6,7 +6,7 @@ use std::time::Instant;
 use bevy::ecs::schedule::{LogLevel, ScheduleBuildSettings, ScheduleLabel, SingleThreadedExecutor};
 use bevy::prelude::*;
 
-use super::{SimulationSystems, StageTimings};
+use super::{SimulationFault, SimulationSystems, StageTimings, no_fault};
 use crate::execution::Execution;
 use crate::resources::{NextBodyId, SimulationSettings};
 
@@ -34,20 +34,30 @@ impl Plugin for SchedulePlugin {
         for pair in SimulationSystems::ALL.windows(2) {
             schedule.configure_sets(pair[0].before(pair[1]));
         }
+        // After a fault, no stage runs (the state cannot be trusted).
+        for stage in SimulationSystems::ALL {
+            schedule.configure_sets(stage.run_if(no_fault));
+        }
         app.add_schedule(schedule)
+            .init_resource::<SimulationFault>()
             .init_resource::<SimulationSettings>()
             .init_resource::<StageTimings>()
             .init_resource::<NextBodyId>();
     }
 }
 
-/// Runs `updates` simulation updates on `world`, timing each as a whole.
-/// In parallel mode the updates run inside the worker pool
-/// ([`Execution::install`]).
+/// Runs `updates` simulation updates on `world`, timing each as a whole,
+/// and stops early at a [`SimulationFault`]. In parallel mode the updates
+/// run inside the worker pool ([`Execution::install`]).
 pub fn run_updates(world: &mut World, updates: u64) {
     let execution = world.resource::<Execution>().clone();
     execution.install(|| {
         for _ in 0..updates {
+            let mut fault = world.resource_mut::<SimulationFault>();
+            if fault.fault.is_some() {
+                return;
+            }
+            fault.updates += 1;
             let start = Instant::now();
             world.run_schedule(SimulationUpdate);
             world.resource_mut::<StageTimings>().update.record(start.elapsed());

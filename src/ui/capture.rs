@@ -8,13 +8,14 @@ use std::time::{Duration, Instant};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 
+use super::body_colors::is_celestial;
 use super::clock::UpdateClock;
 use super::frame_stats::{FrameStats, summarize};
 use super::gpu_memory::GpuMemory;
 use super::instance_slot::InstancedBodies;
 use super::settings::SandboxSettings;
 use crate::bench::{FrameReport, peak_memory};
-use crate::components::BodyId;
+use crate::components::{BodyId, GravityRole, Interacts};
 use crate::draw_method::DrawMethod;
 use crate::output::{write_atomically, write_png};
 
@@ -64,16 +65,19 @@ impl Plugin for CapturePlugin {
     }
 }
 
-/// Whether the bodies have been drawn at least once (or are not drawn by the
-/// instanced pipeline at all).
-fn bodies_ready(settings: &SandboxSettings, instanced: &Query<&InstancedBodies>) -> bool {
-    if !settings.render_bodies || settings.render_method != DrawMethod::Instanced {
-        return true;
-    }
-    instanced
-        .iter()
-        .all(|InstancedBodies(slot)| slot.draws() > 0 || slot.is_empty())
+/// Whether a scripted run may finish as far as the bodies go: they have been
+/// drawn at least once, or there is nothing it would wait for — bodies not
+/// drawn, drawn by another method (Bevy's own pipelines), no cubes in the
+/// scene (planets and moons are drawn apart), or no instanced drawing at
+/// all. `cubes` counts the cubes in the scene, `draws` the instanced draws
+/// submitted so far (`None`: no instanced drawing).
+fn bodies_ready(settings: &SandboxSettings, cubes: usize, draws: Option<u64>) -> bool {
+    let waits = settings.render_bodies && settings.render_method == DrawMethod::Instanced && cubes > 0;
+    !waits || draws.is_none_or(|n| n > 0)
 }
+
+/// The cubes of the scene: the bodies the instanced pipeline draws.
+type Cubes<'w, 's> = Query<'w, 's, (&'static GravityRole, &'static Interacts), With<BodyId>>;
 
 /// After the frames (and once the bodies are on screen), takes the
 /// screenshot or ends the run.
@@ -83,12 +87,18 @@ fn scripted_run(
     stats: Res<FrameStats>,
     settings: Res<SandboxSettings>,
     instanced: Query<&InstancedBodies>,
+    cubes: Cubes,
     mut exit: MessageWriter<AppExit>,
 ) {
     if run.capturing || stats.frames < run.frames {
         return;
     }
-    let ready = bodies_ready(&settings, &instanced);
+    let cubes = cubes
+        .iter()
+        .filter(|&(&role, &interacts)| !is_celestial(role, interacts))
+        .count();
+    let draws = instanced.iter().map(|InstancedBodies(slot)| slot.draws()).min();
+    let ready = bodies_ready(&settings, cubes, draws);
     let timed_out = run.started.elapsed() > READY_TIMEOUT;
     if !ready && !timed_out {
         return;
@@ -190,5 +200,30 @@ fn report_frames(
             "frames {}: too few to time (warm-up is {WARMUP_FRAMES})",
             stats.all.len()
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_waits_only_for_cubes_the_instanced_pipeline_has_yet_to_draw() {
+        let instanced = SandboxSettings::default();
+        assert_eq!(instanced.render_method, DrawMethod::Instanced);
+        assert!(!bodies_ready(&instanced, 300, Some(0)), "cubes not drawn yet");
+        assert!(bodies_ready(&instanced, 300, Some(1)));
+        assert!(bodies_ready(&instanced, 0, Some(0)), "an empty scene: nothing to draw");
+        assert!(bodies_ready(&instanced, 300, None), "no instanced drawing to wait for");
+        let hidden = SandboxSettings {
+            render_bodies: false,
+            ..instanced.clone()
+        };
+        assert!(bodies_ready(&hidden, 300, Some(0)));
+        let meshes = SandboxSettings {
+            render_method: DrawMethod::MeshPerBody,
+            ..instanced
+        };
+        assert!(bodies_ready(&meshes, 300, Some(0)));
     }
 }

@@ -11,7 +11,7 @@ use super::sets::SandboxSystems;
 use super::settings::SandboxSettings;
 use crate::execution::Execution;
 use crate::resources::SimulationSettings;
-use crate::systems::{StageTimings, run_updates};
+use crate::systems::{SimulationFault, StageTimings, run_updates};
 
 /// Longest a frame spends simulating before it drops the updates it still
 /// owes (keeps the window responsive: at least about 20 frames per second
@@ -87,4 +87,74 @@ fn drive_simulation(world: &mut World, mut scene: Local<u64>) {
         ran += 1;
     }
     world.resource_mut::<UpdateClock>().record(elapsed, owed, ran);
+    // A run that stopped pauses, with the reason where errors show.
+    if let Some(message) = world.resource::<SimulationFault>().message() {
+        let message = format!("{message}: restart the scene");
+        let mut state = world.resource_mut::<SandboxState>();
+        if state.error.as_ref() != Some(&message) {
+            warn!("{message}");
+            state.paused = true;
+            state.error = Some(message);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::components::{BodyId, BodyState, GravityRole};
+    use crate::execution::ExecutionMode;
+    use crate::scenario::Scenario;
+    use crate::simulation::spawn_bodies;
+    use crate::systems::SimulationPlugins;
+
+    /// A run that stops at a fault pauses with the message where the panel
+    /// shows errors, and says it once.
+    #[test]
+    fn a_fault_pauses_the_window_with_the_message() {
+        let mut app = App::new();
+        let settings = SandboxSettings::default();
+        app.add_plugins((MinimalPlugins, SimulationPlugins))
+            .insert_resource(Execution::new(ExecutionMode::Sequential, 1).unwrap())
+            .insert_resource(SimulationSettings {
+                time_step: 4.0,
+                ..SimulationSettings::default()
+            })
+            .insert_resource(SandboxState::new(Scenario::builtin_default(), &settings))
+            .insert_resource(settings)
+            .init_resource::<UpdateClock>()
+            .add_systems(Update, drive_simulation);
+        // 1e38 a time unit for 4 time units: past f32's 3.4e38 in one update.
+        let body = BodyState::new_box(
+            BodyId(3),
+            Vec3::ZERO,
+            Vec3::new(0.0, 1e38, 0.0),
+            1.0,
+            Vec3::ONE,
+            GravityRole::Adopter,
+            true,
+        );
+        spawn_bodies(app.world_mut(), &[body]);
+        {
+            let mut state = app.world_mut().resource_mut::<SandboxState>();
+            state.paused = true;
+            state.step_requested = true;
+        }
+        app.update();
+        let state = app.world().resource::<SandboxState>();
+        assert!(state.paused);
+        let error = state.error.clone().expect("the message is shown");
+        assert!(
+            error.starts_with("update 1: body 3 has a non-finite position (0, inf, 0)")
+                && error.ends_with("the simulation stopped: restart the scene"),
+            "{error}"
+        );
+        // Unpaused, nothing runs and nothing changes.
+        app.world_mut().resource_mut::<SandboxState>().paused = false;
+        app.update();
+        app.update();
+        let world = app.world();
+        assert_eq!(world.resource::<SimulationFault>().updates, 1);
+        assert_eq!(world.resource::<SandboxState>().error.as_ref(), Some(&error));
+    }
 }

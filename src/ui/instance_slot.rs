@@ -57,12 +57,6 @@ impl InstanceSlot {
     pub fn draws(&self) -> u64 {
         self.draws.load(Ordering::Relaxed)
     }
-
-    /// Whether the instances last published are none at all (nothing to
-    /// draw, so nothing to wait for).
-    pub fn is_empty(&self) -> bool {
-        self.data.lock().unwrap_or_else(PoisonError::into_inner).is_empty()
-    }
 }
 
 /// The entity that stands for all instanced bodies: a unit cube mesh plus

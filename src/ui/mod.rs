@@ -31,6 +31,7 @@ pub mod settings_file;
 pub mod snapshot_save;
 pub mod startup;
 pub mod trails;
+pub mod widgets;
 mod window_options;
 
 pub use crate::draw_method::DrawMethod;

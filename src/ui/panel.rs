@@ -12,12 +12,13 @@ use super::selection::{Selection, selected_info};
 use super::sets::SandboxSystems;
 use super::settings::{
     CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE, SPEED_RANGE,
-    SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE,
+    SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,
 };
 use super::snapshot_save::SnapshotSave;
+use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
-use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, available_threads};
+use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy};
 use crate::resources::{DEFAULT_THETA, GravityMethod};
 use crate::rng::Rng;
 
@@ -133,9 +134,9 @@ fn run_controls(ui: &mut egui::Ui, settings: &mut SandboxSettings, state: &mut S
             state.restart_requested = true;
         }
     });
-    ui.add(egui::Slider::new(&mut settings.updates_per_second, UPS_RANGE).text("updates/s"));
+    ui.add(slider(&mut settings.updates_per_second, UPS_RANGE).text("updates/s"));
     ui.add(
-        egui::Slider::new(&mut settings.speed, SPEED_RANGE)
+        slider(&mut settings.speed, SPEED_RANGE)
             .logarithmic(true)
             .text("speed ×"),
     );
@@ -147,11 +148,10 @@ fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         ui.radio_value(&mut settings.mode, ExecutionMode::Sequential, "sequential");
         ui.radio_value(&mut settings.mode, ExecutionMode::Parallel, "parallel");
     });
-    let most = (available_threads() * 2).max(2);
     let parallel = settings.mode == ExecutionMode::Parallel;
     ui.add_enabled(
         parallel,
-        egui::Slider::new(&mut settings.threads, 1..=most).text("threads"),
+        slider(&mut settings.threads, 1..=max_threads()).text("threads"),
     );
     ui.add_enabled_ui(parallel, |ui| split_policy(ui, &mut settings.split));
 }
@@ -174,10 +174,7 @@ fn split_policy(ui: &mut egui::Ui, split: &mut SplitPolicy) {
         if ui.radio(above, "from").clicked() {
             *split = SplitPolicy::Above(from);
         }
-        let field = ui.add_enabled(
-            above,
-            egui::DragValue::new(&mut from).range(0..=MAX_BODY_COUNT).speed(100.0),
-        );
+        let field = ui.add_enabled(above, drag_value(&mut from, 0..=MAX_BODY_COUNT).speed(100.0));
         if field.changed() {
             *split = SplitPolicy::Above(from);
         }
@@ -201,7 +198,7 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
             settings.gravity_method = GravityMethod::Tree { theta: DEFAULT_THETA };
         }
         if let GravityMethod::Tree { theta } = &mut settings.gravity_method {
-            ui.add(egui::Slider::new(theta, 0.0..=1.5).text("θ"))
+            ui.add(slider(theta, 0.0..=1.5).text("θ"))
                 .on_hover_text("opening angle: 0 is the direct sum; 0.5 errs about 0.1 %");
         }
     });
@@ -210,25 +207,25 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         settings.collisions,
         egui::Checkbox::new(&mut settings.collision_response, "collision response (bounce, shatter)"),
     );
-    ui.add(egui::Slider::new(&mut settings.shatter_fragments, 2..=20).text("shatter fragments"));
+    ui.add(slider(&mut settings.shatter_fragments, 2..=20).text("shatter fragments"));
     ui.add(
-        egui::Slider::new(&mut settings.shatter_threshold, 0.0..=50.0)
+        slider(&mut settings.shatter_threshold, 0.0..=50.0)
             .logarithmic(true)
             .text("impact threshold"),
     );
     ui.add(
-        egui::Slider::new(&mut settings.min_fragment_size, MIN_FRAGMENT_SIZE_RANGE)
+        slider(&mut settings.min_fragment_size, MIN_FRAGMENT_SIZE_RANGE)
             .logarithmic(true)
             .text("smallest fragment"),
     )
     .on_hover_text("edge length: a collision whose fragments would be smaller bounces (0: no floor, the thesis)");
     ui.add(
-        egui::Slider::new(&mut settings.max_bodies, MAX_BODIES_RANGE)
+        slider(&mut settings.max_bodies, MAX_BODIES_RANGE)
             .logarithmic(true)
             .text("body budget"),
     )
     .on_hover_text("a shatter that would make more bodies bounces");
-    ui.add(egui::Slider::new(&mut settings.fragment_spread, FRAGMENT_SPREAD_RANGE).text("fragment spread"))
+    ui.add(slider(&mut settings.fragment_spread, FRAGMENT_SPREAD_RANGE).text("fragment spread"))
         .on_hover_text("the fragments' speed apart, as a share of the impact speed (the thesis's \"Streuung\")");
 }
 
@@ -244,10 +241,7 @@ fn scene(
     ui.horizontal(|ui| {
         ui.checkbox(&mut own_count, "body count");
         let mut count = settings.body_count.unwrap_or_else(|| generated_count(state));
-        ui.add_enabled(
-            own_count,
-            egui::DragValue::new(&mut count).range(0..=MAX_BODY_COUNT).speed(100.0),
-        );
+        ui.add_enabled(own_count, drag_value(&mut count, 0..=MAX_BODY_COUNT).speed(100.0));
         settings.body_count = own_count.then_some(count);
     });
     ui.horizontal(|ui| {
@@ -363,7 +357,7 @@ fn rendering(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     .response
     .on_hover_text("the selected body always draws its path");
     if settings.trails != TrailChoice::Off {
-        ui.add(egui::Slider::new(&mut settings.trail_count, TRAIL_COUNT_RANGE).text("bodies with trails"));
+        ui.add(slider(&mut settings.trail_count, TRAIL_COUNT_RANGE).text("bodies with trails"));
     }
 }
 
@@ -420,6 +414,35 @@ fn random_seed() -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_idle_panel_changes_no_setting_even_beyond_its_widgets_ranges() {
+        // Allowed values the widgets do not reach (see `widgets.rs`); a
+        // change here would be saved as if the user had made it.
+        let loaded = SandboxSettings {
+            threads: max_threads(),
+            shatter_fragments: 50,
+            shatter_threshold: 100.0,
+            gravity_method: GravityMethod::Tree { theta: 1.9 },
+            split: SplitPolicy::Above(MAX_BODY_COUNT * 10),
+            trails: TrailChoice::Fastest,
+            ..SandboxSettings::default()
+        };
+        let mut settings = loaded.clone();
+        let mut state = SandboxState::new(crate::scenario::Scenario::builtin_default(), &settings);
+        let (mut path_field, mut files) = (String::new(), Some(Vec::new()));
+        let ctx = egui::Context::default();
+        for _ in 0..3 {
+            let _ = ctx.run_ui(egui::RawInput::default(), |ui| {
+                run_controls(ui, &mut settings, &mut state);
+                execution(ui, &mut settings);
+                physics(ui, &mut settings);
+                scene(ui, &mut settings, &mut state, &mut path_field, &mut files);
+                rendering(ui, &mut settings);
+            });
+        }
+        assert_eq!(settings, loaded);
+    }
 
     #[test]
     fn picker_lists_the_shipped_scenarios() {

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, available_threads};
-use crate::resources::{DEFAULT_THETA, GravityMethod, SimulationSettings};
+use crate::resources::{DEFAULT_THETA, GravityMethod, MAX_THETA, SimulationSettings};
 
 /// Slowest and fastest target update rate, updates per second.
 pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
@@ -16,14 +16,22 @@ pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
 pub const SPEED_RANGE: std::ops::RangeInclusive<f32> = 0.05..=8.0;
 /// Smallest and largest fragment spread (a share of the impact speed).
 pub const FRAGMENT_SPREAD_RANGE: std::ops::RangeInclusive<f32> = 0.0..=10.0;
-/// Most bodies the panel offers.
-pub const MAX_BODY_COUNT: u64 = 2_000_000;
+/// Most bodies the panel offers: as many as `--bodies` accepts.
+pub const MAX_BODY_COUNT: u64 = crate::input::MAX_RUN_BODIES;
 /// Smallest and largest size floor the panel offers, edge lengths.
 pub const MIN_FRAGMENT_SIZE_RANGE: std::ops::RangeInclusive<f32> = 0.0..=100.0;
 /// Smallest and largest body budget.
 pub const MAX_BODIES_RANGE: std::ops::RangeInclusive<u64> = 1..=crate::scenario::MAX_BODIES;
+/// Fewest and most fragments a shatter makes (the scenario format's bounds;
+/// the panel's slider offers the low end).
+pub const SHATTER_FRAGMENTS_RANGE: std::ops::RangeInclusive<u32> = 2..=crate::scenario::MAX_FRAGMENTS;
 /// Fewest and most fragments drawn with a trail.
 pub const TRAIL_COUNT_RANGE: std::ops::RangeInclusive<u32> = 1..=200;
+
+/// `a to b`, as a warning names an allowed range.
+fn range_text<T: std::fmt::Debug>(range: &std::ops::RangeInclusive<T>) -> String {
+    format!("{:?} to {:?}", range.start(), range.end())
+}
 
 /// Which bodies besides the selected one draw their recent path.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -177,64 +185,211 @@ impl Default for SandboxSettings {
     }
 }
 
+/// The most worker threads the window offers on this machine: twice its
+/// hardware threads (to show what oversubscription costs), at most
+/// [`MAX_THREADS`].
+pub fn max_threads() -> usize {
+    available_threads().saturating_mul(2).clamp(2, MAX_THREADS)
+}
+
+/// A value from a settings file outside what the sandbox allows, and what is
+/// used instead this session.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutOfRange {
+    /// The field, as the file names it.
+    pub field: &'static str,
+    /// The value the file holds.
+    pub found: String,
+    /// What is allowed.
+    pub allowed: String,
+    /// The value used instead.
+    pub used: String,
+}
+
+impl std::fmt::Display for OutOfRange {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} {} is out of range ({}), using {}",
+            self.field, self.found, self.allowed, self.used
+        )
+    }
+}
+
+/// Collects the fields [`SandboxSettings::sanitize`] replaces.
+struct Fixes(Vec<OutOfRange>);
+
+impl Fixes {
+    /// Replaces `value` by what `fix` gives for it, if anything, noting it.
+    fn check<T: std::fmt::Debug>(
+        &mut self,
+        field: &'static str,
+        value: &mut T,
+        allowed: &str,
+        fix: impl FnOnce(&T) -> Option<T>,
+    ) {
+        let Some(used) = fix(value) else {
+            return;
+        };
+        self.0.push(OutOfRange {
+            field,
+            found: format!("{value:?}"),
+            allowed: allowed.to_owned(),
+            used: format!("{used:?}"),
+        });
+        *value = used;
+    }
+}
+
+/// The value clamped into `range` if it lies outside.
+fn clamped<T: PartialOrd + Copy>(value: T, range: &std::ops::RangeInclusive<T>) -> Option<T> {
+    if range.contains(&value) {
+        None
+    } else if value < *range.start() {
+        Some(*range.start())
+    } else {
+        Some(*range.end())
+    }
+}
+
 impl SandboxSettings {
-    /// Values out of range replaced by the nearest allowed one; returns the
-    /// names of the fields that were changed.
-    pub fn sanitize(&mut self) -> Vec<&'static str> {
-        let mut fixed = Vec::new();
-        if !(1..=MAX_THREADS).contains(&self.threads) {
-            self.threads = self.threads.clamp(1, MAX_THREADS);
-            fixed.push("threads");
-        }
-        if !UPS_RANGE.contains(&self.updates_per_second) {
-            self.updates_per_second = self.updates_per_second.clamp(*UPS_RANGE.start(), *UPS_RANGE.end());
-            fixed.push("updates_per_second");
-        }
-        if !SPEED_RANGE.contains(&self.speed) {
-            self.speed = if self.speed.is_nan() {
-                1.0
+    /// Values out of range replaced by the nearest allowed one (or the
+    /// default, where there is no nearest); returns what was replaced, for
+    /// the warning. These are the only bounds a loaded value is held to:
+    /// the panel's widgets never change a value the user did not edit, even
+    /// one beyond the widget's own range (a slider offers a convenient part
+    /// of what is allowed).
+    pub fn sanitize(&mut self) -> Vec<OutOfRange> {
+        let physics = SimulationSettings::default();
+        let mut fixes = Fixes(Vec::new());
+        let threads = 1..=max_threads();
+        fixes.check(
+            "threads",
+            &mut self.threads,
+            &format!("1 to {} on this machine, twice its hardware threads", threads.end()),
+            |&n| clamped(n, &threads),
+        );
+        fixes.check(
+            "updates_per_second",
+            &mut self.updates_per_second,
+            &range_text(&UPS_RANGE),
+            |&ups| clamped(ups, &UPS_RANGE),
+        );
+        fixes.check("speed", &mut self.speed, &range_text(&SPEED_RANGE), |&speed| {
+            if speed.is_nan() {
+                Some(1.0)
             } else {
-                self.speed.clamp(*SPEED_RANGE.start(), *SPEED_RANGE.end())
+                clamped(speed, &SPEED_RANGE)
+            }
+        });
+        fixes.check(
+            "body_count",
+            &mut self.body_count,
+            &format!("None or Some(0 to {MAX_BODY_COUNT})"),
+            |&count| {
+                count
+                    .is_some_and(|n| n > MAX_BODY_COUNT)
+                    .then_some(Some(MAX_BODY_COUNT))
+            },
+        );
+        fixes.check(
+            "shatter_fragments",
+            &mut self.shatter_fragments,
+            &format!("{}: a shatter needs at least 2", range_text(&SHATTER_FRAGMENTS_RANGE)),
+            |&n| clamped(n, &SHATTER_FRAGMENTS_RANGE),
+        );
+        fixes.check(
+            "shatter_threshold",
+            &mut self.shatter_threshold,
+            "finite and >= 0",
+            |&t| (!(t.is_finite() && t >= 0.0)).then_some(physics.shatter_threshold),
+        );
+        fixes.check(
+            "gravity_method",
+            &mut self.gravity_method,
+            &format!("Direct, or Tree with theta from 0 to {MAX_THETA:?}"),
+            |method| {
+                method
+                    .check()
+                    .is_err()
+                    .then_some(GravityMethod::Tree { theta: DEFAULT_THETA })
+            },
+        );
+        fixes.check(
+            "trail_count",
+            &mut self.trail_count,
+            &range_text(&TRAIL_COUNT_RANGE),
+            |&n| clamped(n, &TRAIL_COUNT_RANGE),
+        );
+        fixes.check(
+            "min_fragment_size",
+            &mut self.min_fragment_size,
+            &range_text(&MIN_FRAGMENT_SIZE_RANGE),
+            |size| (!MIN_FRAGMENT_SIZE_RANGE.contains(size)).then_some(physics.min_fragment_size),
+        );
+        fixes.check(
+            "max_bodies",
+            &mut self.max_bodies,
+            &range_text(&MAX_BODIES_RANGE),
+            |&n| clamped(n, &MAX_BODIES_RANGE),
+        );
+        fixes.check(
+            "fragment_spread",
+            &mut self.fragment_spread,
+            &range_text(&FRAGMENT_SPREAD_RANGE),
+            |spread| (!FRAGMENT_SPREAD_RANGE.contains(spread)).then_some(physics.fragment_spread),
+        );
+        fixes.0
+    }
+
+    /// Takes into `self` every field in which `now` differs from `start`,
+    /// keeping its own value for the rest; returns the names of the fields
+    /// taken. Saving uses it with the file's own values as `self`, the
+    /// settings in force at start (after the command line's one-run
+    /// choices) as `start` and the settings at exit as `now`: only what the
+    /// user changed during the session reaches the file.
+    pub fn take_changes(&mut self, start: &Self, now: &Self) -> Vec<&'static str> {
+        let mut taken = Vec::new();
+        macro_rules! take {
+            ($($field:ident),* $(,)?) => {
+                // Every field must be listed: a new one fails to compile here.
+                let Self { $($field: _),* } = now;
+                $(
+                    if now.$field != start.$field {
+                        self.$field = now.$field.clone();
+                        taken.push(stringify!($field));
+                    }
+                )*
             };
-            fixed.push("speed");
         }
-        if self.body_count.is_some_and(|n| n > MAX_BODY_COUNT) {
-            self.body_count = Some(MAX_BODY_COUNT);
-            fixed.push("body_count");
-        }
-        if self.shatter_fragments < 2 {
-            self.shatter_fragments = 2;
-            fixed.push("shatter_fragments");
-        }
-        if !(self.shatter_threshold.is_finite() && self.shatter_threshold >= 0.0) {
-            self.shatter_threshold = SimulationSettings::default().shatter_threshold;
-            fixed.push("shatter_threshold");
-        }
-        if self.gravity_method.check().is_err() {
-            self.gravity_method = GravityMethod::Tree { theta: DEFAULT_THETA };
-            fixed.push("gravity_method");
-        }
-        if !TRAIL_COUNT_RANGE.contains(&self.trail_count) {
-            self.trail_count = self
-                .trail_count
-                .clamp(*TRAIL_COUNT_RANGE.start(), *TRAIL_COUNT_RANGE.end());
-            fixed.push("trail_count");
-        }
-        if !MIN_FRAGMENT_SIZE_RANGE.contains(&self.min_fragment_size) {
-            self.min_fragment_size = SimulationSettings::default().min_fragment_size;
-            fixed.push("min_fragment_size");
-        }
-        if !MAX_BODIES_RANGE.contains(&self.max_bodies) {
-            self.max_bodies = self
-                .max_bodies
-                .clamp(*MAX_BODIES_RANGE.start(), *MAX_BODIES_RANGE.end());
-            fixed.push("max_bodies");
-        }
-        if !FRAGMENT_SPREAD_RANGE.contains(&self.fragment_spread) {
-            self.fragment_spread = SimulationSettings::default().fragment_spread;
-            fixed.push("fragment_spread");
-        }
-        fixed
+        take!(
+            mode,
+            threads,
+            split,
+            vsync,
+            render_bodies,
+            visual_effects,
+            collisions,
+            collision_response,
+            gravity,
+            gravity_method,
+            updates_per_second,
+            speed,
+            body_count,
+            seed,
+            shatter_fragments,
+            shatter_threshold,
+            fragment_spread,
+            min_fragment_size,
+            max_bodies,
+            scenario,
+            camera,
+            render_method,
+            show_collision_boxes,
+            trails,
+            trail_count,
+        );
+        taken
     }
 
     /// Copies the live physics switches into the simulation's settings.
@@ -286,7 +441,8 @@ mod tests {
                 fragment_spread: bad,
                 ..SandboxSettings::default()
             };
-            assert_eq!(settings.sanitize(), ["fragment_spread"], "{bad}");
+            let fixed: Vec<_> = settings.sanitize().into_iter().map(|f| f.field).collect();
+            assert_eq!(fixed, ["fragment_spread"], "{bad}");
             assert_eq!(settings.fragment_spread, 0.2);
         }
         let mut physics = SimulationSettings::default();
@@ -296,5 +452,102 @@ mod tests {
         }
         .apply_physics(&mut physics);
         assert_eq!(physics.fragment_spread, 0.7, "live");
+    }
+
+    #[test]
+    fn every_value_out_of_range_is_named_with_what_is_used_instead() {
+        let mut settings = SandboxSettings {
+            threads: max_threads() + 1,
+            shatter_fragments: crate::scenario::MAX_FRAGMENTS + 1,
+            shatter_threshold: -1.0,
+            updates_per_second: 0,
+            ..SandboxSettings::default()
+        };
+        let fixes = settings.sanitize();
+        let fields: Vec<_> = fixes.iter().map(|f| f.field).collect();
+        assert_eq!(
+            fields,
+            [
+                "threads",
+                "updates_per_second",
+                "shatter_fragments",
+                "shatter_threshold"
+            ]
+        );
+        assert_eq!(settings.threads, max_threads());
+        assert_eq!(settings.shatter_fragments, crate::scenario::MAX_FRAGMENTS);
+        assert_eq!(
+            settings.shatter_threshold,
+            SimulationSettings::default().shatter_threshold
+        );
+        assert_eq!(settings.updates_per_second, 1);
+        let text = fixes[0].to_string();
+        assert!(
+            text.starts_with(&format!(
+                "threads {} is out of range (1 to {}",
+                max_threads() + 1,
+                max_threads()
+            )) && text.ends_with(&format!("using {}", max_threads())),
+            "{text}"
+        );
+        assert_eq!(
+            fixes[3].to_string(),
+            format!(
+                "shatter_threshold -1.0 is out of range (finite and >= 0), using {:?}",
+                SimulationSettings::default().shatter_threshold
+            )
+        );
+        assert!(settings.sanitize().is_empty(), "sanitized settings stay as they are");
+    }
+
+    #[test]
+    fn values_beyond_the_panel_sliders_but_allowed_are_kept() {
+        let mut settings = SandboxSettings {
+            threads: 1,
+            shatter_fragments: 50,
+            shatter_threshold: 100.0,
+            gravity_method: GravityMethod::Tree { theta: 1.9 },
+            ..SandboxSettings::default()
+        };
+        let before = settings.clone();
+        assert!(settings.sanitize().is_empty());
+        assert_eq!(settings, before);
+    }
+
+    #[test]
+    fn only_the_fields_changed_since_start_are_taken() {
+        // The file's own values (one out of range), the settings at start
+        // (sanitized, with one-run choices from the command line), and at
+        // exit (the user changed the threads).
+        let file = SandboxSettings {
+            threads: 999,
+            seed: 5,
+            body_count: None,
+            ..SandboxSettings::default()
+        };
+        let start = SandboxSettings {
+            threads: max_threads(),
+            body_count: Some(200),
+            scenario: Some(PathBuf::from("other.ron")),
+            seed: 6,
+            ..file.clone()
+        };
+        let now = SandboxSettings {
+            threads: 1,
+            ..start.clone()
+        };
+        let mut saved = file.clone();
+        assert_eq!(saved.take_changes(&start, &now), ["threads"]);
+        assert_eq!(
+            saved,
+            SandboxSettings {
+                threads: 1,
+                ..file.clone()
+            }
+        );
+
+        let mut untouched = file.clone();
+        assert!(untouched.take_changes(&start, &start).is_empty());
+        assert_eq!(untouched, file, "an out-of-range value nobody touched is kept");
     }
 }

@@ -1,11 +1,20 @@
 //! The settings file: read at start, saved on exit if the user changed a
 //! setting.
 //!
-//! A missing file means defaults; a broken, foreign or out-of-range one
-//! means defaults (or the nearest allowed values) and a warning, and it is
-//! left alone until the user changes a setting. Saving writes a temporary
-//! file beside it and renames it over, so a crash mid-write never leaves
-//! half a file.
+//! A missing file means defaults; a broken or foreign one means defaults and
+//! a warning; an out-of-range value means the nearest allowed value (or the
+//! default) for this session and a warning naming the field, the value and
+//! what is used instead. Nothing else changes a loaded value: the panel's
+//! widgets leave alone what the user does not edit.
+//!
+//! The file is rewritten only when the user changed a setting during the
+//! session, and then only the fields the user changed take the session's
+//! value: every other field keeps the file's own value, as read. So the
+//! command line's one-run choices (`--bodies`, a scenario, `--render`, …)
+//! never reach the file, and an out-of-range value the user did not touch
+//! is written back as it was (and warned about again next time) rather
+//! than silently replaced. Saving writes a temporary file beside it and
+//! renames it over, so a crash mid-write never leaves half a file.
 
 use std::path::{Path, PathBuf};
 
@@ -16,19 +25,21 @@ use super::settings::SandboxSettings;
 use crate::input::{parse_ron, read_text_if_present};
 use crate::output::{WriteError, write_atomically};
 
-/// The settings file, what was last read from or written to it, and any
+/// The settings file, what it holds, what was in force at start, and any
 /// warning about it.
 #[derive(Resource, Clone, Debug)]
 pub struct SettingsFile {
     /// Where the settings are read from and saved to.
     pub path: PathBuf,
-    /// The settings as the file holds them (`None`: unreadable or missing),
-    /// so an unchanged session does not rewrite it.
+    /// The file's own values, as read (out-of-range ones included) or as
+    /// last saved; `None`: missing or unreadable, the defaults stand in.
+    /// Saving keeps them for every field the user did not change.
     pub saved: Option<SandboxSettings>,
-    /// The settings that were in force at start; nothing is saved while the
-    /// settings still equal them.
+    /// The settings in force at start: the file's, within range, with the
+    /// command line's one-run choices. A field that still equals it at exit
+    /// was not changed by the user and is not saved.
     pub initial: SandboxSettings,
-    /// Problem with the file, shown in the HUD.
+    /// Problems with the file, shown in the HUD (one per line).
     pub warning: Option<String>,
 }
 
@@ -45,9 +56,10 @@ pub use crate::user_files::default_settings_path;
 
 /// Reads the settings at `path`: the settings to use, the settings as the
 /// file holds them, and a warning. Never fails: a missing file gives
-/// defaults silently, an unreadable, broken or out-of-range one gives
-/// defaults (or the sanitized values) and a warning naming the file and the
-/// problem.
+/// defaults silently, an unreadable or broken one gives defaults and a
+/// warning naming the file and the problem, an out-of-range value the
+/// allowed value and a warning naming the file, the field, the value and
+/// what is used instead.
 pub fn load_settings(path: &Path) -> (SandboxSettings, Option<SandboxSettings>, Option<String>) {
     let text = match read_text_if_present(path) {
         Ok(Some(text)) => text,
@@ -59,10 +71,11 @@ pub fn load_settings(path: &Path) -> (SandboxSettings, Option<SandboxSettings>, 
             let as_read = settings.clone();
             let fixed = settings.sanitize();
             let warning = (!fixed.is_empty()).then(|| {
+                let fixed: Vec<String> = fixed.iter().map(ToString::to_string).collect();
                 format!(
-                    "{}: out-of-range {} replaced by the nearest allowed value",
+                    "{}: {} (the file keeps its values unless you change those settings)",
                     path.display(),
-                    fixed.join(", ")
+                    fixed.join("; ")
                 )
             });
             (settings, Some(as_read), warning)
@@ -86,7 +99,32 @@ pub fn save_settings(path: &Path, settings: &SandboxSettings) -> Result<(), Writ
             source,
         })?;
     }
-    write_atomically(path, |w| writeln!(w, "{text}"))
+    // A link (a dotfiles setup) is written through, to the file it names;
+    // anything else that is not a regular file (a FIFO, a device) is left
+    // alone.
+    let target = match path.symlink_metadata() {
+        Ok(m) if m.file_type().is_symlink() => {
+            let named = std::fs::read_link(path).map_err(|source| WriteError {
+                path: path.to_owned(),
+                source,
+            })?;
+            // A relative link is relative to the link's folder.
+            path.parent().unwrap_or(Path::new("")).join(named)
+        }
+        _ => path.to_owned(),
+    };
+    if let Ok(m) = target.metadata()
+        && !m.is_file()
+    {
+        return Err(WriteError {
+            path: target,
+            source: std::io::Error::other(format!(
+                "is {}; settings are saved to regular files only",
+                crate::input::node_kind(m.file_type())
+            )),
+        });
+    }
+    write_atomically(&target, |w| writeln!(w, "{text}"))
 }
 
 impl SettingsFile {
@@ -102,15 +140,27 @@ impl SettingsFile {
         (file, settings)
     }
 
-    /// Saves `settings` if the user changed something since start and the
-    /// file does not already hold them. Returns whether it wrote.
-    pub fn save_if_changed(&mut self, settings: &SandboxSettings) -> Result<bool, WriteError> {
-        if *settings == self.initial || self.saved.as_ref() == Some(settings) {
-            return Ok(false);
+    /// Adds a problem to the warning the HUD shows.
+    pub fn add_warning(&mut self, warning: String) {
+        self.warning = Some(match self.warning.take() {
+            Some(earlier) => format!("{earlier}\n{warning}"),
+            None => warning,
+        });
+    }
+
+    /// Saves the fields in which `settings` differs from the settings at
+    /// start, over the file's own values (see the module's doc), if there
+    /// are any and the file does not already hold the result. Returns the
+    /// fields saved; empty if it did not write.
+    pub fn save_if_changed(&mut self, settings: &SandboxSettings) -> Result<Vec<&'static str>, WriteError> {
+        let mut merged = self.saved.clone().unwrap_or_default();
+        let changed = merged.take_changes(&self.initial, settings);
+        if changed.is_empty() || self.saved.as_ref() == Some(&merged) {
+            return Ok(Vec::new());
         }
-        save_settings(&self.path, settings)?;
-        self.saved = Some(settings.clone());
-        Ok(true)
+        save_settings(&self.path, &merged)?;
+        self.saved = Some(merged);
+        Ok(changed)
     }
 }
 
@@ -124,8 +174,8 @@ fn save_settings_on_exit(
         return;
     }
     match file.save_if_changed(&settings) {
-        Ok(true) => info!("settings saved to {}", file.path.display()),
-        Ok(false) => {}
+        Ok(changed) if changed.is_empty() => {}
+        Ok(changed) => info!("settings saved to {} ({})", file.path.display(), changed.join(", ")),
         Err(e) => eprintln!(
             "kessler: warning: {}: cannot save settings: {}",
             e.path.display(),
@@ -140,6 +190,36 @@ mod tests {
     use crate::draw_method::DrawMethod;
     use crate::execution::{ExecutionMode, SplitPolicy};
     use crate::ui::settings::CameraMode;
+
+    #[cfg(unix)]
+    #[test]
+    fn a_linked_file_is_saved_through_the_link_and_a_fifo_is_left_alone() {
+        use std::os::unix::fs::FileTypeExt;
+
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.ron");
+        let link = dir.path().join("settings.ron");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        let settings = SandboxSettings {
+            seed: 5,
+            ..SandboxSettings::default()
+        };
+        save_settings(&link, &settings).unwrap();
+        assert!(
+            link.symlink_metadata().unwrap().file_type().is_symlink(),
+            "the link stays"
+        );
+        assert_eq!(load_settings(&real).0, settings);
+
+        let fifo = dir.path().join("fifo.ron");
+        crate::input::make_fifo(&fifo);
+        let (loaded, _, warning) = load_settings(&fifo);
+        assert_eq!(loaded, SandboxSettings::default());
+        assert!(warning.unwrap().contains("is a FIFO (named pipe)"));
+        let e = save_settings(&fifo, &settings).unwrap_err();
+        assert!(e.source.to_string().contains("regular files only"), "{e}");
+        assert!(fifo.symlink_metadata().unwrap().file_type().is_fifo());
+    }
 
     #[test]
     fn saved_settings_load_back_equal() {
@@ -201,14 +281,14 @@ mod tests {
         assert_eq!(settings, SandboxSettings::default());
         let warning = file.warning.clone().expect("a warning");
         assert!(warning.contains("settings.ron"), "{warning}");
-        assert!(!file.save_if_changed(&settings).unwrap());
+        assert!(file.save_if_changed(&settings).unwrap().is_empty());
         assert_eq!(std::fs::read_to_string(&path).unwrap(), garbage);
         // Once the user changes something, the file is replaced.
         let changed = SandboxSettings {
             gravity: false,
             ..settings
         };
-        assert!(file.save_if_changed(&changed).unwrap());
+        assert_eq!(file.save_if_changed(&changed).unwrap(), ["gravity"]);
         assert_eq!(load_settings(&path).0, changed);
     }
 
@@ -228,14 +308,111 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("settings.ron");
         std::fs::write(&path, "(updates_per_second: 5000, shatter_fragments: 0, threads: 0)").unwrap();
-        let (settings, _, warning) = load_settings(&path);
+        let (settings, saved, warning) = load_settings(&path);
         assert_eq!(settings.updates_per_second, 600);
         assert_eq!(settings.shatter_fragments, 2);
         assert_eq!(settings.threads, 1);
+        let saved = saved.unwrap();
+        assert_eq!(
+            (saved.updates_per_second, saved.shatter_fragments, saved.threads),
+            (5000, 0, 0),
+            "the file's own values, as read"
+        );
         let warning = warning.unwrap();
-        for field in ["updates_per_second", "shatter_fragments", "threads"] {
-            assert!(warning.contains(field), "{warning}");
+        for said in [
+            "settings.ron: ",
+            "updates_per_second 5000 is out of range (1 to 600), using 600",
+            "shatter_fragments 0 is out of range",
+            "threads 0 is out of range",
+        ] {
+            assert!(warning.contains(said), "{said:?} not in {warning}");
         }
+    }
+
+    /// Opens `text` as a settings file, as the window does: the settings at
+    /// start are the file's, within range.
+    fn open(dir: &Path, text: &str) -> (PathBuf, SettingsFile, SandboxSettings) {
+        let path = dir.join("settings.ron");
+        std::fs::write(&path, text).unwrap();
+        let (file, settings) = SettingsFile::open(path.clone());
+        (path, file, settings)
+    }
+
+    #[test]
+    fn out_of_range_values_survive_a_session_that_changes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "(threads: 100000, shatter_fragments: 5000, shatter_threshold: -1.0)";
+        let (path, mut file, settings) = open(dir.path(), text);
+        let warning = file.warning.clone().unwrap();
+        for said in ["threads 100000", "shatter_fragments 5000", "shatter_threshold -1.0"] {
+            assert!(warning.contains(said), "{said:?} not in {warning}");
+        }
+        assert!(file.save_if_changed(&settings).unwrap().is_empty());
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), text, "byte for byte");
+    }
+
+    #[test]
+    fn a_change_saves_that_field_and_keeps_the_files_own_values_for_the_rest() {
+        let dir = tempfile::tempdir().unwrap();
+        let (path, mut file, settings) = open(
+            dir.path(),
+            "(threads: 100000, shatter_fragments: 5000, seed: 3, body_count: Some(7))",
+        );
+        let changed = SandboxSettings {
+            gravity: false,
+            ..settings.clone()
+        };
+        assert_eq!(file.save_if_changed(&changed).unwrap(), ["gravity"]);
+        let (_, saved, _) = load_settings(&path);
+        let saved = saved.unwrap();
+        assert!(!saved.gravity);
+        assert_eq!(
+            (saved.threads, saved.shatter_fragments, saved.seed, saved.body_count),
+            (100_000, 5000, 3, Some(7)),
+            "untouched, even out of range: written back as the file had them"
+        );
+        // A second save of the same settings writes nothing new.
+        assert!(file.save_if_changed(&changed).unwrap().is_empty());
+
+        // Changing the out-of-range value itself saves the new one.
+        let threads = SandboxSettings { threads: 1, ..changed };
+        assert_eq!(file.save_if_changed(&threads).unwrap(), ["threads", "gravity"]);
+        assert_eq!(load_settings(&path).1.unwrap().threads, 1);
+    }
+
+    #[test]
+    fn a_missing_file_saves_defaults_with_the_users_change_only() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("none").join("settings.ron");
+        let (mut file, settings) = SettingsFile::open(path.clone());
+        // A one-run choice at start, then a change in the panel.
+        file.initial = SandboxSettings {
+            body_count: Some(200),
+            ..settings
+        };
+        let now = SandboxSettings {
+            trails: crate::ui::settings::TrailChoice::Newest,
+            ..file.initial.clone()
+        };
+        assert_eq!(file.save_if_changed(&now).unwrap(), ["trails"]);
+        let saved = load_settings(&path).1.unwrap();
+        assert_eq!(
+            saved,
+            SandboxSettings {
+                trails: crate::ui::settings::TrailChoice::Newest,
+                ..SandboxSettings::default()
+            }
+        );
+    }
+
+    #[test]
+    fn warnings_add_up_one_per_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let (_, mut file, _) = open(dir.path(), "(threads: 0)");
+        file.add_warning("saved scenario: gone".into());
+        let warning = file.warning.unwrap();
+        assert_eq!(warning.lines().count(), 2, "{warning}");
+        assert!(warning.ends_with("saved scenario: gone"));
     }
 
     #[test]

@@ -19,19 +19,28 @@ pub struct Start {
 
 impl Start {
     /// Checks what can be checked before a window opens (the screenshot
-    /// path, the display, the body count), then reads the settings and the
-    /// scenario: the saved ones, overridden by the command line, whose
-    /// choices are not changes that would rewrite the settings file.
+    /// path, the display), then reads the settings and the scenario (see
+    /// [`Self::read`]).
     pub fn from_options(options: &WindowOptions) -> Result<Self, WindowError> {
         check_screenshot(options)?;
         check_display()?;
+        Self::read(options)
+    }
+
+    /// Reads the settings and the scenario: the saved ones, overridden by
+    /// the command line. The command line's choices are for this run: they
+    /// are in force from the start, so they are no change the user made,
+    /// and saving keeps the file's own values for them (see
+    /// [`settings_file`](super::settings_file)). Warnings about the file are
+    /// printed here, once, and shown in the HUD.
+    pub fn read(options: &WindowOptions) -> Result<Self, WindowError> {
         if let Some(n) = options.bodies.filter(|&n| n > MAX_BODY_COUNT) {
             return Err(WindowError::TooManyBodies(n));
         }
         let path = options.settings.clone().unwrap_or_else(default_settings_path);
         let (mut file, mut settings) = SettingsFile::open(path);
         if let Some(warning) = &file.warning {
-            eprintln!("kessler: warning: {warning}");
+            eprintln!("kessler: warning: {}", crate::output::printable(warning));
         }
         let scenario = match &options.scenario {
             Some(path) => {
@@ -41,10 +50,11 @@ impl Start {
                 scenario
             }
             None => Scenario::load_or_default(settings.scenario.as_deref()).unwrap_or_else(|e| {
-                // The saved scenario went missing or broke: say so, use the built-in.
+                // The saved scenario went missing or broke: say so, use the
+                // built-in (the file keeps naming it).
                 let warning = format!("saved scenario: {e}; using the built-in scene");
-                eprintln!("kessler: warning: {warning}");
-                file.warning = Some(warning);
+                eprintln!("kessler: warning: {}", crate::output::printable(&warning));
+                file.add_warning(warning);
                 settings.scenario = None;
                 Scenario::builtin_default()
             }),
@@ -102,4 +112,53 @@ fn check_display() -> Result<(), WindowError> {
 /// True where the window cannot open: Linux without an X11 display.
 pub fn no_display() -> bool {
     cfg!(target_os = "linux") && std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::draw_method::DrawMethod;
+    use crate::execution::ExecutionMode;
+
+    #[test]
+    fn one_run_choices_are_never_saved_but_the_users_changes_are() {
+        let dir = tempfile::tempdir().unwrap();
+        let settings_path = dir.path().join("settings.ron");
+        let text = "(threads: 1, seed: 11, shatter_fragments: 3, render_method: SharedMesh)";
+        std::fs::write(&settings_path, text).unwrap();
+        let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/cascade.ron");
+        let options = WindowOptions {
+            scenario: Some(scenario.into()),
+            settings: Some(settings_path.clone()),
+            bodies: Some(200),
+            render: Some(DrawMethod::MeshPerBody),
+            vsync: Some(false),
+            mode: Some(ExecutionMode::Sequential),
+            ups: Some(30),
+            ..WindowOptions::default()
+        };
+        let Start { mut file, settings, .. } = Start::read(&options).unwrap();
+        assert_eq!(settings.body_count, Some(200));
+        assert_eq!(settings.scenario.as_deref(), Some(std::path::Path::new(scenario)));
+        // An unchanged session writes nothing.
+        assert!(file.save_if_changed(&settings).unwrap().is_empty());
+        assert_eq!(std::fs::read_to_string(&settings_path).unwrap(), text);
+
+        // The user changes the threads in the panel: only they are saved.
+        let changed = SandboxSettings { threads: 2, ..settings };
+        assert_eq!(file.save_if_changed(&changed).unwrap(), ["threads"]);
+        let (_, saved, _) = super::super::settings_file::load_settings(&settings_path);
+        let expected = SandboxSettings {
+            threads: 2,
+            seed: 11,
+            shatter_fragments: 3,
+            render_method: DrawMethod::SharedMesh,
+            ..SandboxSettings::default()
+        };
+        assert_eq!(
+            saved,
+            Some(expected),
+            "no body count, scenario, its seed or other one-run choice"
+        );
+    }
 }

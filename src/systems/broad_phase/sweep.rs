@@ -2,6 +2,7 @@
 //! whole broad phase (sort, then sweep) on any [`BoxSource`].
 
 use std::ops::Range;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::BoxSource;
 use super::grid::Grid;
@@ -11,11 +12,61 @@ use crate::components::BodyId;
 use crate::execution::{Execution, StageExecution};
 use crate::systems::SimulationSystems;
 
+/// Pairs a sweep may find per box on average before it stops: a body
+/// overlapping 32 others on average is a pile-up (bodies placed on one
+/// point, a collapse crushed flat), not a scene; the densest shipped scene
+/// stays far below it (docs/design.md, "Broad phase").
+pub const PAIRS_PER_BOX: usize = 32;
+
+/// The fewest pairs a sweep may find before it stops, whatever the box
+/// count.
+pub const MIN_PAIR_LIMIT: usize = 1 << 20;
+
+/// The most pairs a sweep over `boxes` boxes keeps: everything overlapping
+/// everything is N² pairs, which would exhaust memory long before the
+/// response could use them.
+pub fn pair_limit(boxes: usize) -> usize {
+    boxes.saturating_mul(PAIRS_PER_BOX).max(MIN_PAIR_LIMIT)
+}
+
+/// A sweep found more pairs than [`pair_limit`] allows and stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the {boxes} bodies overlap in more than {limit} pairs (the limit: {PAIRS_PER_BOX} a body, at least \
+     {MIN_PAIR_LIMIT}): they are piled on one another (bodies placed at one point, or a cloud too small for its count)"
+)]
+pub struct TooManyPairs {
+    /// The limit that was passed.
+    pub limit: usize,
+    /// The boxes swept.
+    pub boxes: usize,
+}
+
+/// Pairs found so far by all chunks of one sweep, against the limit.
+/// Chunks report in batches; the sweep fails exactly when the total of
+/// all pairs exceeds the limit, whichever chunk notices (every pair is
+/// counted once, and a total above the limit makes some report exceed it),
+/// so the outcome is the same in both modes.
+struct PairBudget {
+    found: AtomicUsize,
+    limit: usize,
+}
+
+/// Pairs a chunk finds between two reports to the [`PairBudget`].
+const BUDGET_BATCH: usize = 4096;
+
+impl PairBudget {
+    /// Counts `pairs` more; whether the total is still within the limit.
+    fn take(&self, pairs: usize) -> bool {
+        self.found.fetch_add(pairs, Ordering::Relaxed) + pairs <= self.limit
+    }
+}
+
 /// Kernel: the overlapping pairs `(i, j)` of input indices found in the
 /// `cells`, cell after cell, visiting each cell's boxes in the sweep order
 /// the sort stage found: each box scans forward while the next starts
-/// before it ends on x.
-fn sweep_cells(sorted: &SortedBoxes, grid: &Grid, cells: Range<usize>) -> Vec<(u32, u32)> {
+/// before it ends on x. `None` once the sweep's pairs exceed the budget.
+fn sweep_cells(sorted: &SortedBoxes, grid: &Grid, cells: Range<usize>, budget: &PairBudget) -> Option<Vec<(u32, u32)>> {
     let mut pairs = Vec::new();
     let mut scratch = Vec::new();
     let orders = sorted.orders();
@@ -39,35 +90,48 @@ fn sweep_cells(sorted: &SortedBoxes, grid: &Grid, cells: Range<usize>) -> Vec<(u
                 }
                 if a.aabb.overlaps_yz(&b.aabb) && grid.owner(&a.aabb, &b.aabb) == cell as u32 {
                     pairs.push((a.index, b.index));
+                    if pairs.len().is_multiple_of(BUDGET_BATCH) && !budget.take(BUDGET_BATCH) {
+                        return None;
+                    }
                 }
             }
         }
     }
-    pairs
+    budget.take(pairs.len() % BUDGET_BATCH).then_some(pairs)
 }
 
 /// The sweep stage's work: every overlapping pair of the sorted boxes
 /// exactly once, as input indices `(i, j)` with box `i` first in sweep
-/// order, cell after cell; ranges of cells are the chunks.
-pub fn sweep_sorted(sorted: &SortedBoxes, stage: StageExecution<'_>) -> Vec<(u32, u32)> {
+/// order, cell after cell; ranges of cells are the chunks. Fails, in both
+/// modes alike, when there are more than [`pair_limit`] pairs.
+pub fn sweep_sorted(sorted: &SortedBoxes, stage: StageExecution<'_>) -> Result<Vec<(u32, u32)>, TooManyPairs> {
     let Some(grid) = sorted.grid() else {
-        return Vec::new();
+        return Ok(Vec::new());
     };
-    stage
-        .map_chunks(0..grid.cell_count(), |cells| sweep_cells(sorted, grid, cells))
-        .concat()
+    let too_many = TooManyPairs {
+        limit: pair_limit(sorted.len()),
+        boxes: sorted.len(),
+    };
+    let budget = PairBudget {
+        found: AtomicUsize::new(0),
+        limit: too_many.limit,
+    };
+    let chunks = stage.map_chunks(0..grid.cell_count(), |cells| sweep_cells(sorted, grid, cells, &budget));
+    let chunks: Option<Vec<_>> = chunks.into_iter().collect();
+    Ok(chunks.ok_or(too_many)?.concat())
 }
 
 /// Sweep and prune over `boxes` (any order): the sort stage's and the sweep
 /// stage's work, each split as `execution`'s policy says for that stage.
 /// Every overlapping pair of indices into `boxes` exactly once, as `(i, j)`
 /// with `boxes[i]` first in sweep order; the same pairs in the same order
-/// in both execution modes and under every split policy.
+/// (or the same failure: more than [`pair_limit`] pairs) in both execution
+/// modes and under every split policy.
 pub fn sweep_and_prune<B: BoxSource + ?Sized>(
     boxes: &B,
     execution: &Execution,
     sorted: &mut SortedBoxes,
-) -> Vec<(u32, u32)> {
+) -> Result<Vec<(u32, u32)>, TooManyPairs> {
     sort_boxes(
         boxes,
         execution.for_stage(SimulationSystems::Sort.name(), boxes.len()),
@@ -125,7 +189,7 @@ mod tests {
     /// gather their boxes from many filed chunks.
     fn run(boxes: &[Aabb], mode: ExecutionMode) -> Vec<(u32, u32)> {
         let exec = Execution::new(mode, 3).unwrap().fine_grained();
-        sweep_and_prune(boxes, &exec, &mut SortedBoxes::default())
+        sweep_and_prune(boxes, &exec, &mut SortedBoxes::default()).unwrap()
     }
 
     fn unit_boxes(centers: &[[f32; 3]]) -> Vec<Aabb> {
@@ -237,7 +301,7 @@ mod tests {
         let mut scratch = SortedBoxes::default();
         for (count, seed) in [(4000, 7), (2500, 8), (4000, 9)] {
             let boxes = random_boxes(count, seed);
-            let found = sweep_and_prune(boxes.as_slice(), &exec, &mut scratch);
+            let found = sweep_and_prune(boxes.as_slice(), &exec, &mut scratch).unwrap();
             assert_eq!(normalized(found), brute_force(&boxes), "{count} boxes");
         }
     }
@@ -253,8 +317,35 @@ mod tests {
             SplitPolicy::Auto,
         ] {
             let exec = Execution::new(ExecutionMode::Parallel, 2).unwrap().with_split(split);
-            let found = sweep_and_prune(boxes.as_slice(), &exec, &mut SortedBoxes::default());
+            let found = sweep_and_prune(boxes.as_slice(), &exec, &mut SortedBoxes::default()).unwrap();
             assert_eq!(found, whole, "split {split}");
         }
+    }
+
+    /// Boxes on one point overlap in N² / 2 pairs: the sweep stops at the
+    /// limit in both modes, and a crowd just under it still passes.
+    #[test]
+    fn a_pile_up_stops_at_the_pair_limit_in_both_modes() {
+        // 2 000 coincident boxes: 1 999 000 pairs, above the 1 Mi floor.
+        let piled = vec![Aabb::new(Vec3::ZERO, Vec3::ONE); 2000];
+        assert!(2000 * 1999 / 2 > pair_limit(2000));
+        // 1 400 of them: 979 300 pairs, just under it.
+        let crowd = vec![Aabb::new(Vec3::ZERO, Vec3::ONE); 1400];
+        assert!(1400 * 1399 / 2 <= pair_limit(1400));
+        for mode in [ExecutionMode::Sequential, ExecutionMode::Parallel] {
+            let exec = Execution::new(mode, 3).unwrap().fine_grained();
+            let failed = sweep_and_prune(piled.as_slice(), &exec, &mut SortedBoxes::default());
+            assert_eq!(
+                failed,
+                Err(TooManyPairs {
+                    limit: MIN_PAIR_LIMIT,
+                    boxes: 2000
+                }),
+                "{mode:?}"
+            );
+            let found = sweep_and_prune(crowd.as_slice(), &exec, &mut SortedBoxes::default()).unwrap();
+            assert_eq!(found.len(), 1400 * 1399 / 2, "{mode:?}");
+        }
+        assert_eq!(pair_limit(1_000_000), 32_000_000);
     }
 }

@@ -9,7 +9,7 @@ use super::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sweep_sorted};
 use crate::components::BodyId;
 use crate::execution::Execution;
 use crate::resources::SimulationSettings;
-use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
+use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, StageTimings};
 
 /// Two overlapping bodies: ids `a < b` and their entities.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,6 +46,7 @@ fn sweep(
     mut pairs: ResMut<OverlappingPairs>,
     sorted: Res<SortedBoxes>,
     bodies: BroadPhaseQuery,
+    mut fault: ResMut<SimulationFault>,
 ) {
     pairs.0.clear();
     if !settings.collisions {
@@ -57,7 +58,13 @@ fn sweep(
     // despawns between the two stages).
     debug_assert_eq!(sorted.len(), columns.len(), "the sort saw other bodies");
     let stage = execution.for_stage(SimulationSystems::Sweep.name(), columns.len());
-    let index_pairs = sweep_sorted(&sorted, stage);
+    let index_pairs = match sweep_sorted(&sorted, stage) {
+        Ok(pairs) => pairs,
+        Err(e) => {
+            fault.stop(Fault::PileUp(e));
+            Vec::new()
+        }
+    };
     pairs.0.extend(index_pairs.iter().map(|&(i, j)| {
         let (first, second) = (columns.body(i as usize), columns.body(j as usize));
         let ((a, entity_a), (b, entity_b)) = if first < second {
