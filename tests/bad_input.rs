@@ -38,7 +38,7 @@ fn every_malformed_scenario_is_a_clear_error() {
 #[test]
 fn bad_arguments_are_clear_errors() {
     let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
-    let cases: [(&[&str], &str); 22] = [
+    let cases: [(&[&str], &str); 25] = [
         (
             &["headless", scenario, "--steps", "-5"],
             "invalid value '-5' for '--steps <STEPS>': must be a whole number from 0 to 1000000000000",
@@ -56,13 +56,25 @@ fn bad_arguments_are_clear_errors() {
             "--bodies <N>': must be a whole number from 0 to 2000000",
         ),
         (&["run", "--bodies", "-1"], "--bodies <N>': must be a whole number"),
+        (
+            &["headless", scenario, "--steps", "1", "--threads", "2.5"],
+            "--threads <THREADS>': must be a whole number from 1 to 256",
+        ),
+        (
+            &["run", "--frames", "-5"],
+            "--frames <N>': must be a whole number from 1 to 1000000000000",
+        ),
+        (
+            &["run", "--ups", "-3"],
+            "--ups <UPS>': must be a whole number from 1 to 600",
+        ),
         (&["headless", scenario, "--steps", "ten"], "--steps"),
         (&["headless", scenario], "--steps"),
         (&["headless", scenario, "--steps", "1", "--mode", "fast"], "--mode"),
         (&["headless", scenario, "--steps", "1", "--threads", "0"], "--threads"),
         (
             &["headless", scenario, "--steps", "1", "--threads", "-1"],
-            "not in 1..=256",
+            "must be a whole number from 1 to 256",
         ),
         (
             &["headless", scenario, "--steps", "1", "--dump", "/no/such/folder/x.csv"],
@@ -276,47 +288,54 @@ fn outputs_that_are_not_regular_files_or_cannot_be_written_are_refused_before_wo
     assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
 }
 
+/// Runs the valid scenario `text` (saved as `name`) for `steps` updates in
+/// both modes with every output asked for: exit 3, one line holding each
+/// of `needles`, no output written or touched.
+fn assert_run_stops(name: &str, text: &str, steps: &str, needles: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join(name);
+    std::fs::write(&scenario, text).unwrap();
+    let out = kessler().arg("validate").arg(&scenario).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "valid at the start: {out:?}");
+    let dump = dir.path().join("state.csv");
+    std::fs::write(&dump, "precious").unwrap();
+    let (timeline, snapshot) = (dir.path().join("timeline.csv"), dir.path().join("snapshot.ron"));
+    for mode in ["sequential", "parallel"] {
+        let out = kessler()
+            .args(["headless", "--steps", steps, "--mode", mode, "--dump"])
+            .arg(&dump)
+            .arg("--timeline")
+            .arg(&timeline)
+            .arg("--save-scenario")
+            .arg(&snapshot)
+            .arg(&scenario)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(3), "{mode}: {out:?}");
+        assert_one_clear_line(&out.stderr, needles);
+        assert_eq!(std::fs::read_to_string(&dump).unwrap(), "precious", "{mode}");
+        assert!(!timeline.exists() && !snapshot.exists(), "{mode}");
+    }
+}
+
 /// A scene valid at the start whose bodies then pile up (a cold cloud of
 /// non-interacting cubes collapsing under its own gravity): the run stops
 /// with one line naming the update, exit 3, and writes none of its outputs.
 #[test]
 fn a_run_whose_bodies_pile_up_stops_with_a_message_and_writes_nothing() {
-    let dir = tempfile::tempdir().unwrap();
-    let scenario = dir.path().join("pile.ron");
-    std::fs::write(
-        &scenario,
+    assert_run_stops(
+        "pile.ron",
         "Scenario(gravitational_constant: 1.0, time_step: 0.1, softening: 0.5, generators: [Cloud(count: 3000, \
          center: (0, 0, 0), half_size: (50, 50, 50), body: (half_extents: (3, 3, 3), role: SourceAndAdopter, \
          interacts: false))])",
-    )
-    .unwrap();
-    let out = kessler().arg("validate").arg(&scenario).output().unwrap();
-    assert_eq!(out.status.code(), Some(0), "valid at the start: {out:?}");
-    let dump = dir.path().join("state.csv");
-    std::fs::write(&dump, "precious").unwrap();
-    let timeline = dir.path().join("timeline.csv");
-    for mode in ["sequential", "parallel"] {
-        let out = kessler()
-            .args(["headless", "--steps", "300", "--mode", mode, "--dump"])
-            .arg(&dump)
-            .arg("--timeline")
-            .arg(&timeline)
-            .arg(&scenario)
-            .output()
-            .unwrap();
-        assert_eq!(out.status.code(), Some(3), "{mode}: {out:?}");
-        assert_one_clear_line(
-            &out.stderr,
-            &[
-                "pile.ron: update ",
-                "overlap in more than 1048576 pairs",
-                "piled on one another",
-                "the simulation stopped",
-            ],
-        );
-        assert_eq!(std::fs::read_to_string(&dump).unwrap(), "precious", "{mode}");
-        assert!(!timeline.exists(), "{mode}");
-    }
+        "300",
+        &[
+            "pile.ron: update ",
+            "overlap in more than 1048576 pairs",
+            "piled on one another",
+            "the simulation stopped",
+        ],
+    );
 }
 
 /// A thousand fragments a shatter, with no threshold and no floor: the body
@@ -396,4 +415,23 @@ fn a_sequential_summary_says_one_thread() {
     assert_eq!(out.status.code(), Some(0));
     let summary = String::from_utf8_lossy(&out.stdout);
     assert!(summary.contains("sequential on 1 thread"), "{summary}");
+}
+
+/// A valid scene whose state overflows during the run (an adopter 1e-10
+/// from a heavy source without softening: the first kick, 1e38, is still
+/// finite, the fourth drift is not): the run stops naming the update and
+/// the body, exit 3, in both modes, and writes none of its outputs.
+#[test]
+fn a_run_that_overflows_stops_naming_the_update_and_the_body() {
+    assert_run_stops(
+        "overflow.ron",
+        "Scenario(gravitational_constant: 1e6, bodies: [\
+         Body(position: (0, 0, 0), mass: 1e12, role: Source, interacts: false),\
+         Body(position: (1e-10, 0, 0), interacts: false)])",
+        "10",
+        &[
+            "overflow.ron: update 4: body 1 has a non-finite position (-inf, 0, 0)",
+            "the simulation stopped",
+        ],
+    );
 }

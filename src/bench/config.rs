@@ -234,9 +234,14 @@ impl BenchConfig {
                     BenchRun::Run(run) => (run.bodies, run.apply_to(scenario)),
                     BenchRun::Render(run) => (run.bodies, scenario.clone()),
                 };
-                scenario
-                    .with_generated(bodies)
-                    .map_err(|e| InputError::new(config_path.display().to_string(), format!("runs[{i}]: {e}")))
+                let in_run = |e: &dyn std::fmt::Display| {
+                    InputError::new(config_path.display().to_string(), format!("runs[{i}]: {e}"))
+                };
+                let sized = scenario.with_generated(bodies).map_err(|e| in_run(&e))?;
+                // Its bodies are made (and checked: no pile-up, a finite
+                // first update) before any run is measured, one run at a time.
+                sized.bodies().map_err(|e| in_run(&e))?;
+                Ok(sized)
             })
             .collect()
     }

@@ -3,11 +3,10 @@
 
 use std::path::PathBuf;
 
-use clap::builder::{RangedI64ValueParser, RangedU64ValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::draw_method::DrawMethod;
-use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy};
+use crate::execution::{ExecutionMode, SplitPolicy};
 use crate::resources::GravityMethod;
 
 /// Thousands of bodies orbiting a planet: colliding, bouncing, shattering.
@@ -59,7 +58,7 @@ pub enum Command {
         /// Worker threads to calibrate for [default: all hardware threads].
         #[arg(
             long,
-            value_parser = RangedI64ValueParser::<usize>::new().range(1..=MAX_THREADS as i64),
+            value_parser = crate::input::threads_arg,
             allow_negative_numbers = true
         )]
         threads: Option<usize>,
@@ -84,7 +83,7 @@ pub struct ExecutionArgs {
     /// Worker threads in parallel mode [default: all hardware threads].
     #[arg(
         long,
-        value_parser = RangedI64ValueParser::<usize>::new().range(1..=MAX_THREADS as i64),
+        value_parser = crate::input::threads_arg,
         allow_negative_numbers = true
     )]
     pub threads: Option<usize>,
@@ -119,7 +118,7 @@ pub struct RunArgs {
     /// Scenario file (RON); the saved or built-in scenario if omitted.
     pub scenario: Option<PathBuf>,
     /// Close after this many frames and print frame-time statistics.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "N", value_parser = crate::input::positive_count_arg, allow_negative_numbers = true)]
     pub frames: Option<u64>,
     /// Save a PNG of the window after the last frame (needs --frames; the
     /// file must not exist yet).
@@ -151,7 +150,7 @@ pub struct RunArgs {
     pub split: Option<SplitPolicy>,
     /// Target simulation updates per second, 1–600 (overrides the saved
     /// setting).
-    #[arg(long, value_name = "UPS", value_parser = clap::value_parser!(u32).range(1..=600))]
+    #[arg(long, value_name = "UPS", value_parser = crate::input::ups_arg, allow_negative_numbers = true)]
     pub ups: Option<u32>,
     /// With --frames: write what the run measured (frame times, memory,
     /// GPU memory) to this new file, `key=value` per line (benchmark
@@ -229,7 +228,7 @@ pub struct HeadlessArgs {
         value_name = "K",
         requires = "timeline",
         default_value_t = 1,
-        value_parser = RangedU64ValueParser::<u64>::new().range(1..),
+        value_parser = crate::input::positive_count_arg,
         allow_negative_numbers = true
     )]
     pub every: u64,

@@ -15,10 +15,12 @@ pub fn calibrate_command(threads: Option<usize>, out: Option<&Path>) -> Result<(
     let threads = threads.unwrap_or_else(available_threads);
     // A path given is checked before the measuring; the default one's
     // folder is made if missing.
-    if let Some(out) = out {
-        check_replaceable("--out", out)?;
-    }
     let path = out.map_or_else(default_calibration_path, Path::to_owned);
+    // A path given is checked before the measuring; so is the default one
+    // where something is there already (else its folder is made).
+    if out.is_some() || path.symlink_metadata().is_ok() {
+        check_replaceable("--out", &path)?;
+    }
     let bar = ProgressBar::new(0).with_style(
         ProgressStyle::with_template("{spinner} calibrating [{bar:30}] {pos}/{len} runs, eta {eta}")
             .expect("template is valid")

@@ -10,7 +10,7 @@ use crate::Simulation;
 use crate::calibration::machine_auto_split;
 use crate::dump;
 use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
-use crate::output::{check_replaceable, write_atomically};
+use crate::output::{check_distinct, check_replaceable, printable, write_atomically};
 use crate::scenario::{Scenario, Snapshot, write_snapshot};
 use crate::systems::SimulationSystems;
 use crate::timeline::Timeline;
@@ -38,6 +38,15 @@ pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
     if let Some(path) = &args.timeline {
         check_replaceable("--timeline", path)?;
     }
+    let named: Vec<(&str, &Path)> = [
+        ("--dump", &args.dump),
+        ("--save-scenario", &args.save_scenario),
+        ("--timeline", &args.timeline),
+    ]
+    .into_iter()
+    .filter_map(|(flag, path)| path.as_deref().map(|p| (flag, p)))
+    .collect();
+    check_distinct(&named)?;
     let outputs = Outputs {
         dump: args.dump.as_deref(),
         scenario: args.save_scenario.as_deref(),
@@ -122,7 +131,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         .iter()
         .map(|&stage| format!("{} {:.3}", stage.name(), timings.stage(stage).mean_ns / 1e6))
         .collect();
-    println!(
+    let summary = format!(
         "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}",
         scenario.name,
         updates,
@@ -143,5 +152,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         .filter_map(|(what, path)| path.map(|p| format!("; {what} written to {}", p.display())))
         .collect::<String>(),
     );
+    // One line, whatever the paths hold.
+    println!("{}", printable(&summary));
     Ok(())
 }

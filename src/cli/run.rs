@@ -35,7 +35,9 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
     let execution = Execution::all_cores(mode)?
         .with_split(args.split.unwrap_or_default())
         .with_auto_split(crate::calibration::machine_auto_split());
-    // Said once everything is checked, so that a bad input is one line.
+    // Said once everything is checked (the bodies too), so that a bad
+    // input is one line.
+    scenario.bodies()?;
     eprintln!(
         "kessler: the interactive window is not part of this build (cargo feature `gui`); \
          simulating {RUN_UPDATES} updates headless instead (see `kessler headless --help`)"

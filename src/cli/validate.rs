@@ -9,11 +9,12 @@ use crate::scenario::Scenario;
 pub fn validate(path: &Path) -> Result<(), Failure> {
     let scenario = Scenario::load(path)?;
     let bodies = scenario.bodies()?;
-    println!(
+    let verdict = format!(
         "{}: ok — \"{}\", {} bodies",
         scenario.origin,
         scenario.name,
         bodies.len()
     );
+    println!("{}", crate::output::printable(&verdict));
     Ok(())
 }

@@ -29,6 +29,22 @@ pub fn run_bodies_arg(text: &str) -> Result<u64, String> {
     whole_number(text, 0, MAX_RUN_BODIES)
 }
 
+/// Parses a thread count on the command line (`--threads`): 1 to 256.
+pub fn threads_arg(text: &str) -> Result<usize, String> {
+    whole_number(text, 1, crate::execution::MAX_THREADS as u64).map(|n| n as usize)
+}
+
+/// Parses a count of updates between two timeline rows (`--every`), or of
+/// frames (`--frames`): 1 to 10¹².
+pub fn positive_count_arg(text: &str) -> Result<u64, String> {
+    whole_number(text, 1, MAX_UPDATES)
+}
+
+/// Parses updates per second on the command line (`--ups`): 1 to 600.
+pub fn ups_arg(text: &str) -> Result<u32, String> {
+    whole_number(text, 1, 600).map(|n| n as u32)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -43,5 +59,13 @@ mod tests {
         }
         assert_eq!(run_bodies_arg("2000000"), Ok(MAX_RUN_BODIES));
         assert!(run_bodies_arg("2000001").unwrap_err().contains("from 0 to 2000000"));
+        for bad in ["0", "2.5", "-1", "99999999999999999999", "257"] {
+            assert_eq!(threads_arg(bad), Err("must be a whole number from 1 to 256".to_owned()));
+        }
+        assert_eq!(
+            (threads_arg("256"), ups_arg("600"), positive_count_arg("1")),
+            (Ok(256), Ok(600), Ok(1))
+        );
+        assert!(ups_arg("-3").is_err() && positive_count_arg("0").is_err());
     }
 }

@@ -24,6 +24,38 @@ pub struct WriteError {
 /// Temporary files made by this process so far (part of their names).
 static TEMPORARIES: AtomicU64 = AtomicU64::new(0);
 
+/// Longest part of the target's name a temporary file's name keeps, so
+/// that a long (but valid) target name still leaves room for the rest.
+const NAME_KEPT: usize = 100;
+
+/// Creates a new temporary file beside `path` (in its folder, named after
+/// it), never over anything already there: its path and the open file.
+pub fn create_temporary(path: &Path) -> io::Result<(PathBuf, std::fs::File)> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file name"))?
+        .to_string_lossy();
+    let kept: String = name.chars().take(NAME_KEPT).collect();
+    // `create_new`: never write through something already there; a name
+    // left behind by a crashed process with the same id is skipped.
+    loop {
+        let tmp = dir.join(format!(
+            ".{kept}.{}.{}.tmp",
+            std::process::id(),
+            TEMPORARIES.fetch_add(1, Ordering::Relaxed)
+        ));
+        match std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
+            Ok(file) => return Ok((tmp, file)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+}
+
 /// Writes to `path` through `write`, into a new temporary file in the same
 /// folder that is synced and then renamed, so that `path` is either the old
 /// file or the whole new one. The temporary file is removed on failure.
@@ -32,28 +64,7 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::R
         path: path.to_owned(),
         source,
     };
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| failed(io::Error::new(io::ErrorKind::InvalidInput, "not a file name")))?;
-    // `create_new`: never write through something already there; a name
-    // left behind by a crashed process with the same id is skipped.
-    let (tmp, file) = loop {
-        let tmp = dir.join(format!(
-            ".{}.{}.{}.tmp",
-            name.to_string_lossy(),
-            std::process::id(),
-            TEMPORARIES.fetch_add(1, Ordering::Relaxed)
-        ));
-        match std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
-            Ok(file) => break (tmp, file),
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(failed(e)),
-        }
-    };
+    let (tmp, file) = create_temporary(path).map_err(failed)?;
     let result = (|| {
         let mut out = BufWriter::new(file);
         write(&mut out)?;

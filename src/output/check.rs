@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::create_temporary;
 use crate::input::node_kind;
 
 /// An output path that cannot be used, named with the option that gave it.
@@ -31,6 +32,15 @@ pub enum OutputProblem {
     /// symbolic link), which outputs neither replace nor write through.
     #[error(": is {0}; outputs replace regular files only")]
     NotRegular(&'static str),
+    /// Its "folder" is a file.
+    #[error(": {} is not a folder", .0.display())]
+    FolderNotAFolder(PathBuf),
+    /// The path cannot be looked at (a name too long, a file on the way).
+    #[error(": {0}")]
+    Unusable(std::io::Error),
+    /// Another output of the same command is this file.
+    #[error(": {0} names the same file")]
+    SameAs(String),
     /// Its folder exists but no file can be made in it.
     #[error(": cannot write in folder {}: {}", .0.display(), .1)]
     FolderUnwritable(PathBuf, std::io::Error),
@@ -65,10 +75,12 @@ fn problem(flag: &str, path: &Path, problem: OutputProblem) -> OutputError {
 pub fn check_replaceable(flag: &str, path: &Path) -> Result<(), OutputError> {
     let fail = |p| Err(problem(flag, path, p));
     let text = path.as_os_str().to_string_lossy();
-    if path.is_dir() || text.ends_with(std::path::MAIN_SEPARATOR) || text.ends_with('/') {
+    let names_a_folder = text.ends_with(std::path::MAIN_SEPARATOR) || text.ends_with('/');
+    if path.is_dir() || names_a_folder || path.file_name().is_none() {
         return fail(OutputProblem::IsDirectory);
     }
-    if let Ok(metadata) = path.symlink_metadata()
+    let looked = path.symlink_metadata();
+    if let Ok(metadata) = &looked
         && !metadata.is_file()
     {
         return fail(OutputProblem::NotRegular(node_kind(metadata.file_type())));
@@ -78,19 +90,44 @@ pub fn check_replaceable(flag: &str, path: &Path) -> Result<(), OutputError> {
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     if !folder.is_dir() {
-        return fail(OutputProblem::FolderMissing(folder.to_owned()));
+        return fail(if folder.exists() {
+            OutputProblem::FolderNotAFolder(folder.to_owned())
+        } else {
+            OutputProblem::FolderMissing(folder.to_owned())
+        });
     }
-    if let Err(e) = probe_folder(folder) {
+    // A name too long, or anything else that keeps the path from being
+    // looked at.
+    if let Err(e) = looked
+        && e.kind() != std::io::ErrorKind::NotFound
+    {
+        return fail(OutputProblem::Unusable(e));
+    }
+    if let Err(e) = probe(path) {
         return fail(OutputProblem::FolderUnwritable(folder.to_owned(), e));
     }
     Ok(())
 }
 
-/// Makes and removes a file in `folder`: whether outputs can be written
-/// there (permissions, a read-only or virtual file system like `/proc`).
-fn probe_folder(folder: &Path) -> std::io::Result<()> {
-    let probe = tempfile::Builder::new().prefix(".kessler-probe").tempfile_in(folder)?;
-    probe.close()
+/// Makes and removes the temporary file a write of `path` would make:
+/// whether it can be written (permissions, a read-only or virtual file
+/// system like `/proc`, a name too long).
+fn probe(path: &Path) -> std::io::Result<()> {
+    let (tmp, file) = create_temporary(path)?;
+    drop(file);
+    std::fs::remove_file(tmp)
+}
+
+/// Checks that no two of a command's `outputs` (option and path) are one
+/// file: the last written would silently replace the other.
+pub fn check_distinct(outputs: &[(&str, &Path)]) -> Result<(), OutputError> {
+    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
+    for (k, (flag, path)) in outputs.iter().enumerate() {
+        if let Some((other, _)) = outputs[..k].iter().find(|(_, p)| absolute(p) == absolute(path)) {
+            return Err(problem(flag, path, OutputProblem::SameAs(other.to_string())));
+        }
+    }
+    Ok(())
 }
 
 /// Checks that `path` (given as `flag`) can be written and that nothing is
@@ -147,6 +184,30 @@ mod tests {
         let e = check_extension("--screenshot", &taken, "png").unwrap_err();
         assert!(e.to_string().ends_with("taken.csv: must be a .png file"), "{e}");
         assert!(check_extension("--screenshot", Path::new("a.PNG"), "png").is_ok());
+    }
+
+    #[test]
+    fn a_long_name_a_file_on_the_way_and_a_shared_path_are_found_before_work() {
+        let dir = tempfile::tempdir().unwrap();
+        let long = dir.path().join("x".repeat(249));
+        assert!(
+            check_replaceable("--dump", &long).is_ok(),
+            "249 characters are a valid name"
+        );
+        let too_long = dir.path().join("x".repeat(300));
+        assert!(matches!(
+            check_replaceable("--dump", &too_long).unwrap_err().problem,
+            OutputProblem::Unusable(_)
+        ));
+        let file = dir.path().join("existing.csv");
+        std::fs::write(&file, "x").unwrap();
+        let e = check_replaceable("--dump", &file.join("x.csv")).unwrap_err();
+        assert!(e.to_string().ends_with("existing.csv is not a folder"), "{e}");
+        let dot = PathBuf::from(format!("{}/.", file.display()));
+        assert!(check_replaceable("--dump", &dot).is_err());
+        let e = check_distinct(&[("--dump", &file), ("--timeline", &dir.path().join("./existing.csv"))]).unwrap_err();
+        assert!(e.to_string().ends_with(": --dump names the same file"), "{e}");
+        assert!(check_distinct(&[("--dump", &file), ("--timeline", &long)]).is_ok());
     }
 
     #[test]

@@ -12,8 +12,10 @@ pub struct NextBodyId(pub u64);
 impl NextBodyId {
     /// Takes the next id.
     pub fn allocate(&mut self) -> BodyId {
+        // Loaded ids are at most 2^62 (scenario checks): a run would need
+        // more than 2^62 fragments to get near the end.
         let id = BodyId(self.0);
-        self.0 += 1;
+        self.0 = self.0.saturating_add(1);
         id
     }
 }

@@ -33,26 +33,25 @@ macro_rules! checked_vec3 {
     )*};
 }
 
-// The bounds on magnitudes (docs/design.md, "Scenario files"). They are
-// chosen so that everything one update computes stays finite in f32
-// (at most 3.4e38) for any values within them:
-// - a drift v·dt is at most 1e9 · 1e3 = 1e12;
-// - the pull of one source, G·m / d², is at most 1e6 · 1e12 / (2e-6)² =
-//   2.5e29, and a kick 2.5e32: bodies that do not overlap are at least two
-//   minimum sizes apart (overlapping sources are checked pair by pair when
-//   the bodies are made);
-// - a Shell's orbital speed √(G·m / r) is at most 1e12;
-// - masses, halved and mixed by collisions, stay above f32's smallest
-//   normal number for dozens of shatter generations.
-// A run that still overflows later (bodies falling into one another without
-// softening) stops with a message naming the update and the body.
+// The bounds on magnitudes (docs/design.md, "Scenario files"). The
+// physics settings and the generators' parameters are bounded so that
+// everything one update computes from them stays finite in f32 (at most
+// 3.4e38): a drift v·dt at most 1e9 · 1e3, G·m at most 1e6 · 1e12, a
+// shell's orbital speed √(G·m / r) at most 1e12. A body's own state may
+// go further, as a run takes it (a snapshot of an escaped fragment, a
+// fragment of a fragment), up to 1e30 for coordinates and speeds; what
+// its first update makes of all of it is checked when the bodies are
+// made (`start.rs`). A run that still overflows later stops with a
+// message naming the update and the body.
 
-/// Largest coordinate, speed, size or softening length: 1e9.
+/// Largest generator coordinate, speed or size, and softening length: 1e9.
 pub const MAX_LENGTH: f32 = 1e9;
-/// Smallest half extent, radius: 1e-6.
-pub const MIN_SIZE: f32 = 1e-6;
-/// Smallest and largest mass.
-pub const MASS_RANGE: (f32, f32) = (1e-30, 1e12);
+/// Largest coordinate or speed of a body: 1e30.
+pub const MAX_STATE: f32 = 1e30;
+/// Smallest shell radius: 1e-6.
+pub const MIN_RADIUS: f32 = 1e-6;
+/// Largest mass.
+pub const MAX_MASS: f32 = 1e12;
 /// Largest gravitational constant.
 pub const MAX_GRAVITATIONAL_CONSTANT: f32 = 1e6;
 /// Largest time step.
@@ -64,30 +63,30 @@ checked_f32! {
     softening: "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v);
     shatter_threshold: "finite and >= 0", |v| v >= 0.0;
     fragment_spread: "finite and between 0 and 10", |v| (0.0..=10.0).contains(&v);
-    mass: "finite, from 1e-30 to 1e12", |v| (MASS_RANGE.0..=MASS_RANGE.1).contains(&v);
+    mass: "finite, > 0 and at most 1e12", |v| v > 0.0 && v <= MAX_MASS;
     max_speed: "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v);
-    inner_radius: "finite, from 1e-6 to 1e9", |v| (MIN_SIZE..=MAX_LENGTH).contains(&v);
-    outer_radius: "finite, from 1e-6 to 1e9", |v| (MIN_SIZE..=MAX_LENGTH).contains(&v);
+    inner_radius: "finite, from 1e-6 to 1e9", |v| (MIN_RADIUS..=MAX_LENGTH).contains(&v);
+    outer_radius: "finite, from 1e-6 to 1e9", |v| (MIN_RADIUS..=MAX_LENGTH).contains(&v);
     inclination: "finite and between 0 and 180 degrees", |v| (0.0..=180.0).contains(&v);
     speed_jitter: "finite and between 0 and 1", |v| (0.0..=1.0).contains(&v);
     retrograde_fraction: "finite and between 0 and 1", |v| (0.0..=1.0).contains(&v);
-    radius: "finite, from 1e-6 to 1e9", |v| (MIN_SIZE..=MAX_LENGTH).contains(&v);
+    radius: "finite, > 0 and at most 1e9", |v| v > 0.0 && v <= MAX_LENGTH;
     min_fragment_size: "finite and >= 0", |v| v >= 0.0;
 }
 
 checked_vec3! {
-    position: "finite, from -1e9 to 1e9", |v| v.abs() <= MAX_LENGTH;
-    velocity: "finite, from -1e9 to 1e9", |v| v.abs() <= MAX_LENGTH;
+    position: "finite, from -1e30 to 1e30", |v| v.abs() <= MAX_STATE;
+    velocity: "finite, from -1e30 to 1e30", |v| v.abs() <= MAX_STATE;
     center: "finite, from -1e9 to 1e9", |v| v.abs() <= MAX_LENGTH;
-    half_extents: "finite, from 1e-6 to 1e9", |v| (MIN_SIZE..=MAX_LENGTH).contains(&v);
+    half_extents: "finite, > 0 and at most 1e9", |v| v > 0.0 && v <= MAX_LENGTH;
     half_size: "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v);
 }
 
-/// `previous_position` where given: every component finite, from -1e9 to
-/// 1e9.
+/// `previous_position` where given: every component finite, from -1e30 to
+/// 1e30.
 pub fn previous_position<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f32; 3]>, D::Error> {
-    vec3_where(d, "previous_position", "finite, from -1e9 to 1e9", |v| {
-        v.abs() <= MAX_LENGTH
+    vec3_where(d, "previous_position", "finite, from -1e30 to 1e30", |v| {
+        v.abs() <= MAX_STATE
     })
     .map(Some)
 }
@@ -116,6 +115,42 @@ pub fn gravity<'de, D: Deserializer<'de>>(d: D) -> Result<GravityMethod, D::Erro
 /// `max_bodies`: from 1 to [`MAX_BODIES`].
 pub fn max_bodies<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
     whole_between(d, "max_bodies", 1, MAX_BODIES)
+}
+
+/// Longest scenario name, in characters.
+pub const MAX_NAME: usize = 200;
+
+/// `name`: at most [`MAX_NAME`] characters, none of them a control
+/// character (it is printed in one-line summaries and plot titles).
+pub fn name<'de, D: Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    let name: String = crate::input::read(d, "name")?;
+    let count = name.chars().count();
+    if count > MAX_NAME {
+        Err(D::Error::custom(format!(
+            "field `name`: must be at most {MAX_NAME} characters, got {count}"
+        )))
+    } else if name.chars().any(char::is_control) {
+        Err(D::Error::custom(
+            "field `name`: must not hold control characters (a newline, a tab, an escape)",
+        ))
+    } else {
+        Ok(name)
+    }
+}
+
+/// Largest body id and `next_id`: 2^62, so that the ids of every body a
+/// run can make after it (fragments, one id each) stay far below `u64`'s
+/// limit and never wrap.
+pub const MAX_ID: u64 = 1 << 62;
+
+/// A body's `id` where given: at most [`MAX_ID`].
+pub fn id<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
+    whole_between(d, "id", 0, MAX_ID).map(Some)
+}
+
+/// `next_id` where given: at most [`MAX_ID`].
+pub fn next_id<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
+    whole_between(d, "next_id", 0, MAX_ID).map(Some)
 }
 
 /// A generator's `count`: at most [`MAX_BODIES`].

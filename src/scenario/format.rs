@@ -15,7 +15,7 @@ pub struct Scenario {
     #[serde(skip)]
     pub origin: String,
     /// Shown in summaries and plot titles.
-    #[serde(default = "defaults::name")]
+    #[serde(default = "defaults::name", deserialize_with = "checked::name")]
     pub name: String,
     /// `G`; default 6.674 (the thesis).
     #[serde(
@@ -66,7 +66,7 @@ pub struct Scenario {
     /// The first id fresh bodies (fragments) get; default: one past the
     /// highest id. Snapshots set it, so that a continued run hands out the
     /// same ids as the run it was saved from.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "checked::next_id")]
     pub next_id: Option<u64>,
     /// Explicitly placed bodies: ids 0, 1, 2… in file order, or each its
     /// own `id` (all of them or none).
@@ -82,7 +82,7 @@ pub struct Scenario {
 #[serde(deny_unknown_fields, rename = "Body")]
 pub struct Body {
     /// The body's id (snapshots); default: its place in the list.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "checked::id")]
     pub id: Option<u64>,
     /// Center of the box; required.
     #[serde(deserialize_with = "checked::position")]

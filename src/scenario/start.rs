@@ -2,18 +2,22 @@
 //! what no single field shows, but would stop the run at once.
 //!
 //! - every body's state is finite (a generator's output included);
+//! - the first update's kick and drift, computed by the gravity and
+//!   integration kernels themselves, leave every position and velocity
+//!   finite (two sources 1e-45 apart without softening, or many sources
+//!   whose pulls add up past f32, fail here);
 //! - the bodies are not piled on one another: their overlapping pairs stay
 //!   within the sweep's [`pair_limit`](crate::systems::pair_limit) (bodies
-//!   placed at one point are N² pairs);
-//! - no two overlapping sources pull each other so hard that one time step
-//!   overflows (two sources 1e-45 apart without softening).
+//!   placed at one point are N² pairs).
 
-use crate::components::BodyState;
+use crate::components::{BodyId, BodyState, GravityRole, Position, PreviousPosition, Velocity};
 use crate::execution::{Execution, ExecutionMode};
-use crate::resources::SimulationSettings;
-use crate::systems::{Aabb, GravitySource, SortedBoxes, acceleration_at, sweep_and_prune};
+use crate::resources::{GravityMethod, SimulationSettings};
+use crate::systems::{
+    Aabb, GravitySource, Octree, Pull, SortedBoxes, first_non_finite, gravity_kernel, integrate_kernel, sweep_and_prune,
+};
 
-/// What is wrong with the initial state, in words naming the bodies by id.
+/// What is wrong with the initial state, in words naming the body by id.
 pub fn check_start(bodies: &[BodyState], settings: &SimulationSettings) -> Result<(), String> {
     if let Some(b) = bodies
         .iter()
@@ -24,35 +28,61 @@ pub fn check_start(bodies: &[BodyState], settings: &SimulationSettings) -> Resul
             b.id.0, b.position, b.velocity
         ));
     }
+    let execution = Execution::all_cores(ExecutionMode::Parallel).map_err(|e| e.to_string())?;
+    first_update_stays_finite(bodies, settings, &execution)?;
     let boxes: Vec<Aabb> = bodies.iter().map(|b| Aabb::new(b.position, b.half_extents)).collect();
-    let execution = Execution::new(ExecutionMode::Sequential, 1).map_err(|e| e.to_string())?;
-    let pairs = sweep_and_prune(boxes.as_slice(), &execution, &mut SortedBoxes::default())
+    sweep_and_prune(boxes.as_slice(), &execution, &mut SortedBoxes::default())
         .map_err(|e| format!("at the start, {e}"))?;
-    let softening2 = f64::from(settings.softening).powi(2);
-    for (i, j) in pairs {
-        let (a, b) = (&bodies[i as usize], &bodies[j as usize]);
-        for (pulled, source) in [(a, b), (b, a)] {
-            if !(pulled.role.is_adopter() && source.role.is_source()) {
-                continue;
-            }
-            let source = GravitySource {
-                id: source.id,
-                position: source.position.as_dvec3(),
-                gm: f64::from(settings.gravitational_constant) * f64::from(source.mass),
-            };
-            let kick = acceleration_at(pulled.id, pulled.position, &[source], softening2) * settings.time_step;
-            if !(pulled.velocity + kick).is_finite() {
-                return Err(format!(
-                    "bodies {} and {} are {:e} apart: the first pull between them overflows; \
-                     move them apart or set `softening`",
-                    pulled.id.0,
-                    source.id.0,
-                    pulled.position.distance(source.position.as_vec3())
-                ));
-            }
-        }
-    }
     Ok(())
+}
+
+/// Runs the first update's kick and drift on copies of the bodies' columns
+/// with the stages' own kernels, and names the first body (by id) they
+/// leave non-finite.
+fn first_update_stays_finite(
+    bodies: &[BodyState],
+    settings: &SimulationSettings,
+    execution: &Execution,
+) -> Result<(), String> {
+    let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();
+    let roles: Vec<GravityRole> = bodies.iter().map(|b| b.role).collect();
+    let mut positions: Vec<Position> = bodies.iter().map(|b| Position(b.position)).collect();
+    let mut velocities: Vec<Velocity> = bodies.iter().map(|b| Velocity(b.velocity)).collect();
+    let mut previous = vec![PreviousPosition::default(); bodies.len()];
+    let g = f64::from(settings.gravitational_constant);
+    let mut sources: Vec<GravitySource> = bodies
+        .iter()
+        .filter(|b| b.role.is_source())
+        .map(|b| GravitySource {
+            id: b.id,
+            position: b.position.as_dvec3(),
+            gm: g * f64::from(b.mass),
+        })
+        .collect();
+    sources.sort_unstable_by_key(|s| s.id);
+    let mut tree = Octree::default();
+    let pull = match settings.gravity_method {
+        GravityMethod::Direct => Pull::Direct(&sources),
+        GravityMethod::Tree { theta } => {
+            tree.rebuild(&sources);
+            Pull::Tree(&tree, f64::from(theta))
+        }
+    };
+    let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
+    let stage = execution.for_stage("start check", bodies.len().saturating_mul(sources.len().max(1)));
+    let columns = (
+        ids.as_slice(),
+        positions.as_slice(),
+        roles.as_slice(),
+        velocities.as_mut_slice(),
+    );
+    stage.for_chunks(columns, |columns| gravity_kernel(columns, pull, softening2, dt));
+    if integrate_kernel((&velocities, &mut positions, &mut previous), dt) {
+        return Ok(());
+    }
+    let fault = first_non_finite(ids.iter().zip(&positions).zip(&velocities).map(|((i, p), v)| (i, p, v)))
+        .expect("a non-finite value was seen");
+    Err(format!("the first update overflows: {fault}"))
 }
 
 #[cfg(test)]
@@ -60,7 +90,6 @@ mod tests {
     use bevy::math::Vec3;
 
     use super::*;
-    use crate::components::{BodyId, GravityRole};
 
     fn body(id: u64, x: f32, role: GravityRole) -> BodyState {
         BodyState::new_box(
@@ -85,7 +114,10 @@ mod tests {
             ..SimulationSettings::default()
         };
         let e = check_start(&close, &settings).unwrap_err();
-        assert!(e.starts_with("bodies 0 and 1 are 9.999973e-21 apart"), "{e}");
+        assert!(
+            e.starts_with("the first update overflows: body 0 has a non-finite"),
+            "{e}"
+        );
         let softened = SimulationSettings {
             softening: 1.0,
             ..settings.clone()
@@ -94,6 +126,28 @@ mod tests {
         // Adopters pull nothing.
         let adopters = [body(0, 0.0, GravityRole::Adopter), body(1, 1e-20, GravityRole::Adopter)];
         assert_eq!(check_start(&adopters, &settings), Ok(()));
+    }
+
+    /// Each pull alone is finite; their sum, or the drift after it, is not.
+    #[test]
+    fn pulls_that_add_up_past_f32_and_an_overflowing_drift_are_refused() {
+        let settings = SimulationSettings {
+            gravitational_constant: 1e6,
+            ..SimulationSettings::default()
+        };
+        // 1e18 / (1e-10)² = 1e38 each: two of them are 2e38, four 4e38.
+        let mut crowd = vec![body(9, 0.0, GravityRole::Adopter)];
+        crowd.extend((0..4).map(|i| body(i, -1e-10, GravityRole::Source)));
+        let e = check_start(&crowd, &settings).unwrap_err();
+        assert!(e.contains("body 9 has a non-finite"), "{e}");
+        // One of them: a finite kick of 1e38, but 1e38 · dt (2) overflows.
+        let drift = SimulationSettings {
+            time_step: 2.0,
+            ..settings.clone()
+        };
+        let e = check_start(&crowd[..2], &drift).unwrap_err();
+        assert!(e.contains("body 9 has a non-finite"), "{e}");
+        assert_eq!(check_start(&crowd[..2], &settings), Ok(()));
     }
 
     #[test]

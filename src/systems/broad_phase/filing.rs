@@ -5,7 +5,7 @@ use std::ops::Range;
 
 use bevy::prelude::*;
 
-use super::grid::Grid;
+use super::grid::{Grid, SampledBox};
 use super::{Aabb, BoxSource};
 
 /// A box filed under a grid cell: its index in the input and its corners.
@@ -39,16 +39,17 @@ impl FiledChunk {
 /// Noted for a box that covers more than one cell.
 const SEVERAL_CELLS: u32 = u32::MAX;
 
-/// The lower y–z corners of a chunk of boxes: their bounds, and those of
-/// the boxes whose index is a multiple of the sampling stride.
+/// The lower y–z corners of a chunk of boxes: their bounds, and the corners
+/// and extents of the boxes whose index is a multiple of the sampling
+/// stride.
 #[derive(Clone, Debug, Default)]
 pub struct CornerSample {
     /// Least corner, per axis.
     pub lo: Vec2,
     /// Greatest corner, per axis.
     pub hi: Vec2,
-    /// The sampled corners, in input order.
-    pub sample: Vec<Vec2>,
+    /// The sampled boxes, in input order.
+    pub sample: Vec<SampledBox>,
 }
 
 /// Kernel: the bounds of the lower y–z corners of the boxes in `range`, and
@@ -65,7 +66,10 @@ pub fn corner_sample<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>, stri
         lo = lo.min(corner);
         hi = hi.max(corner);
         if i == next {
-            sample.push(corner);
+            sample.push(SampledBox {
+                corner,
+                extent: Vec2::new(b.max.y - b.min.y, b.max.z - b.min.z),
+            });
             next += stride;
         }
     });

@@ -18,6 +18,22 @@ pub const GRID_SAMPLES: usize = 4096;
 /// cells instead of stretching the grid over empty space.
 const OUTSIDE_SHARE: f64 = 0.005;
 
+/// Most cells the sampled boxes may cover on average: a grid finer than
+/// its boxes (bodies piled near one point, or boxes far larger than their
+/// spacing) would file each box in up to 256² cells, so it is made coarser
+/// until they fit.
+const MAX_CELLS_PER_BOX: f64 = 4.0;
+
+/// A box of the even sample the grid is fitted to: its lower y–z corner
+/// and its extent on y and z.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SampledBox {
+    /// The lower corner (y, z).
+    pub corner: Vec2,
+    /// The extent (y, z).
+    pub extent: Vec2,
+}
+
 /// A grid over y and z, fitted to the lower corners of the boxes.
 #[derive(Clone, Copy, Debug)]
 pub struct Grid {
@@ -50,14 +66,36 @@ fn bulk_span(values: &mut [f32], lo: f32, hi: f32) -> (f32, f32) {
 
 impl Grid {
     /// A grid for `count` boxes whose lower y–z corners lie in `lo..=hi`,
-    /// fitted to the bulk of `sample` (corners drawn evenly from them):
-    /// boxes beyond it share the edge cells.
-    pub fn fit_to_bulk(lo: Vec2, hi: Vec2, sample: &[Vec2], count: usize) -> Self {
-        let mut ys: Vec<f32> = sample.iter().map(|c| c.x).collect();
-        let mut zs: Vec<f32> = sample.iter().map(|c| c.y).collect();
+    /// fitted to the bulk of `sample` (boxes drawn evenly from them):
+    /// boxes beyond it share the edge cells; and no finer than the sampled
+    /// boxes cover [`MAX_CELLS_PER_BOX`] cells on average.
+    pub fn fit_to_bulk(lo: Vec2, hi: Vec2, sample: &[SampledBox], count: usize) -> Self {
+        let mut ys: Vec<f32> = sample.iter().map(|b| b.corner.x).collect();
+        let mut zs: Vec<f32> = sample.iter().map(|b| b.corner.y).collect();
         let (y_lo, y_hi) = bulk_span(&mut ys, lo.x, hi.x);
         let (z_lo, z_hi) = bulk_span(&mut zs, lo.y, hi.y);
-        Self::fit(Vec2::new(y_lo, z_lo), Vec2::new(y_hi, z_hi), count)
+        let (lo, hi) = (Vec2::new(y_lo, z_lo), Vec2::new(y_hi, z_hi));
+        let mut grid = Self::fit(lo, hi, count);
+        while grid.cells_per_axis > 1 && grid.mean_cells(sample) > MAX_CELLS_PER_BOX {
+            grid = Self::with_cells(lo, hi, grid.cells_per_axis / 2);
+        }
+        grid
+    }
+
+    /// The mean number of cells the sampled boxes cover.
+    fn mean_cells(&self, sample: &[SampledBox]) -> f64 {
+        let covered = |b: &SampledBox| {
+            let (y0, y1) = (
+                self.coordinate(b.corner.x, self.lo.x, self.scale.x),
+                self.coordinate(b.corner.x + b.extent.x, self.lo.x, self.scale.x),
+            );
+            let (z0, z1) = (
+                self.coordinate(b.corner.y, self.lo.y, self.scale.y),
+                self.coordinate(b.corner.y + b.extent.y, self.lo.y, self.scale.y),
+            );
+            f64::from(y1 - y0 + 1) * f64::from(z1 - z0 + 1)
+        };
+        sample.iter().map(covered).sum::<f64>() / sample.len().max(1) as f64
     }
 
     /// A grid for `count` boxes whose lower y–z corners lie in `lo..=hi`.
@@ -65,6 +103,11 @@ impl Grid {
         let n = ((count / BOXES_PER_CELL) as f64)
             .sqrt()
             .clamp(1.0, MAX_CELLS_PER_AXIS as f64) as u32;
+        Self::with_cells(lo, hi, n)
+    }
+
+    /// A grid of `n` × `n` cells over `lo..=hi`.
+    fn with_cells(lo: Vec2, hi: Vec2, n: u32) -> Self {
         let extent = hi - lo;
         let scale = |e: f32| if e.is_finite() && e > 0.0 { n as f32 / e } else { 0.0 };
         Self {
@@ -164,7 +207,14 @@ mod tests {
             .iter()
             .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(l, h), c| (l.min(*c), h.max(*c)));
         let stride = corners.len() / GRID_SAMPLES + 1;
-        let sample: Vec<Vec2> = corners.iter().step_by(stride).copied().collect();
+        let sample: Vec<SampledBox> = corners
+            .iter()
+            .step_by(stride)
+            .map(|&corner| SampledBox {
+                corner,
+                extent: Vec2::splat(0.1),
+            })
+            .collect();
         let grid = Grid::fit_to_bulk(lo, hi, &sample, corners.len());
         let mut per_cell = vec![0usize; grid.cell_count()];
         for c in &corners {
@@ -183,5 +233,31 @@ mod tests {
             per_cell[stretched.cell(c.x, c.y) as usize] += 1;
         }
         assert!(per_cell.iter().max().copied().unwrap_or(0) > 9000);
+    }
+
+    /// Boxes piled near one point, or far larger than their spacing, would
+    /// each cover up to 256² cells of a grid fitted to their corners alone.
+    #[test]
+    fn a_grid_is_no_finer_than_its_boxes() {
+        let mut rng = crate::rng::Rng::new(5);
+        let sample: Vec<SampledBox> = (0..4096)
+            .map(|_| SampledBox {
+                corner: Vec2::new(rng.range(0.0, 0.01) as f32, rng.range(0.0, 0.01) as f32),
+                extent: Vec2::splat(2.0),
+            })
+            .collect();
+        let (lo, hi) = (Vec2::ZERO, Vec2::splat(0.01));
+        let fine = Grid::fit(lo, hi, 1_000_000);
+        assert!(
+            fine.mean_cells(&sample) > 1000.0,
+            "the corners alone ask for a fine grid"
+        );
+        let grid = Grid::fit_to_bulk(lo, hi, &sample, 1_000_000);
+        assert!(
+            grid.mean_cells(&sample) <= MAX_CELLS_PER_BOX,
+            "{}",
+            grid.mean_cells(&sample)
+        );
+        assert!(grid.cell_count() <= 16, "{} cells", grid.cell_count());
     }
 }

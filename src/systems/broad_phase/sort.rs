@@ -8,7 +8,7 @@ use bevy::prelude::*;
 
 use super::BoxSource;
 use super::filing::{FiledChunk, corner_sample, file_by_cell};
-use super::grid::{GRID_SAMPLES, Grid};
+use super::grid::{GRID_SAMPLES, Grid, SampledBox};
 use super::ordering::{CellOrder, order_cells};
 use crate::execution::StageExecution;
 
@@ -77,7 +77,7 @@ pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, s
         (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
         |(lo, hi), s| (lo.min(s.lo), hi.max(s.hi)),
     );
-    let sample: Vec<Vec2> = samples.into_iter().flat_map(|s| s.sample).collect();
+    let sample: Vec<SampledBox> = samples.into_iter().flat_map(|s| s.sample).collect();
     let grid = Grid::fit_to_bulk(lo, hi, &sample, boxes.len());
     let chunks = Spare::new(&mut sorted.spare_chunks, &mut sorted.chunks);
     sorted.chunks = stage.map_chunks(0..boxes.len(), |range| file_by_cell(boxes, range, &grid, chunks.take()));

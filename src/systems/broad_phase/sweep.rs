@@ -12,11 +12,13 @@ use crate::components::BodyId;
 use crate::execution::{Execution, StageExecution};
 use crate::systems::SimulationSystems;
 
-/// Pairs a sweep may find per box on average before it stops: a body
-/// overlapping 32 others on average is a pile-up (bodies placed on one
-/// point, a collapse crushed flat), not a scene; the densest shipped scene
-/// stays far below it (docs/design.md, "Broad phase").
-pub const PAIRS_PER_BOX: usize = 32;
+/// Pairs a sweep may find per box on average before it stops: bodies
+/// overlapping 32 others on average (each pair counts for two) are a
+/// pile-up (bodies placed on one point, a collapse crushed flat), not a
+/// scene; the densest shipped scene peaks near 0.5 (docs/design.md, "Broad
+/// phase"). It bounds the pairs' memory: 16 pairs of 8 bytes a body in the
+/// sweep, and as many kept for the response.
+pub const PAIRS_PER_BOX: usize = 16;
 
 /// The fewest pairs a sweep may find before it stops, whatever the box
 /// count.
@@ -346,6 +348,6 @@ mod tests {
             let found = sweep_and_prune(crowd.as_slice(), &exec, &mut SortedBoxes::default()).unwrap();
             assert_eq!(found.len(), 1400 * 1399 / 2, "{mode:?}");
         }
-        assert_eq!(pair_limit(1_000_000), 32_000_000);
+        assert_eq!(pair_limit(1_000_000), 16_000_000);
     }
 }
