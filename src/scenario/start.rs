@@ -14,7 +14,8 @@ use crate::components::{BodyId, BodyState, GravityRole, Position, PreviousPositi
 use crate::execution::{Execution, ExecutionMode};
 use crate::resources::{GravityMethod, SimulationSettings};
 use crate::systems::{
-    Aabb, GravitySource, Octree, Pull, SortedBoxes, first_non_finite, gravity_kernel, integrate_kernel, sweep_and_prune,
+    Aabb, GravitySource, Octree, Pull, SortedBoxes, first_non_finite, gravity_kernel, integrate_kernel,
+    sweep_and_prune, tree_pull,
 };
 
 /// What is wrong with the initial state, in words naming the body by id.
@@ -60,16 +61,20 @@ fn first_update_stays_finite(
         })
         .collect();
     sources.sort_unstable_by_key(|s| s.id);
-    let mut tree = Octree::default();
-    let pull = match settings.gravity_method {
-        GravityMethod::Direct => Pull::Direct(&sources),
-        GravityMethod::Tree { theta } => {
-            tree.rebuild(&sources);
-            Pull::Tree(&tree, f64::from(theta))
-        }
-    };
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
     let stage = execution.for_stage("start check", bodies.len().saturating_mul(sources.len().max(1)));
+    let (mut tree, mut accelerations) = (Octree::default(), Vec::new());
+    let pull = match settings.gravity_method {
+        GravityMethod::Direct => Pull::Direct(&sources),
+        GravityMethod::Tree { theta } => tree_pull(
+            &sources,
+            f64::from(theta),
+            softening2,
+            stage,
+            &mut tree,
+            &mut accelerations,
+        ),
+    };
     let columns = (
         ids.as_slice(),
         positions.as_slice(),

@@ -18,7 +18,7 @@ use bevy::prelude::*;
 
 use super::gravity_tree::Octree;
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
-use crate::execution::Execution;
+use crate::execution::{Execution, StageExecution};
 use crate::resources::{GravityMethod, SimulationSettings};
 use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
 
@@ -60,6 +60,15 @@ pub fn acceleration_at(id: BodyId, position: Vec3, sources: &[GravitySource], so
     a.as_vec3()
 }
 
+/// The factor `G·m / (r² + ε²)^{3/2}` by which a source at squared
+/// distance `r2` pulls along the distance vector: the one formula of
+/// gravity between two bodies.
+#[inline(always)]
+pub fn pull_factor(r2: f64, gm: f64, softening2: f64) -> f64 {
+    let r2 = r2 + softening2;
+    gm / (r2 * r2.sqrt())
+}
+
 /// Adds the pull of each of `sources` in order to `a`, for the body `id`
 /// at `p`: all but itself and sources at its very position.
 #[inline]
@@ -70,8 +79,7 @@ pub fn add_pulls(a: &mut DVec3, id: BodyId, p: DVec3, sources: &[GravitySource],
         if s.id == id || r2 == 0.0 {
             continue;
         }
-        let r2 = r2 + softening2;
-        *a += d * (s.gm / (r2 * r2.sqrt()));
+        *a += d * pull_factor(r2, s.gm, softening2);
     }
 }
 
@@ -80,8 +88,20 @@ pub fn add_pulls(a: &mut DVec3, id: BodyId, p: DVec3, sources: &[GravitySource],
 pub enum Pull<'a> {
     /// The sources, summed one by one in id order.
     Direct(&'a [GravitySource]),
-    /// Their Barnes–Hut tree, with its opening angle.
-    Tree(&'a Octree, f64),
+    /// Their Barnes–Hut tree, with its opening angle, and the acceleration
+    /// of each of the sources (sorted by id), which the tree computes group
+    /// by group beforehand; an adopter that is no source walks the tree on
+    /// its own.
+    Tree {
+        /// The tree.
+        tree: &'a Octree,
+        /// Its opening angle θ.
+        theta: f64,
+        /// The sources, sorted by id.
+        sources: &'a [GravitySource],
+        /// The acceleration of each of `sources`.
+        accelerations: &'a [Vec3],
+    },
 }
 
 impl Pull<'_> {
@@ -90,8 +110,45 @@ impl Pull<'_> {
     pub fn at(&self, id: BodyId, position: Vec3, softening2: f64) -> Vec3 {
         match *self {
             Self::Direct(sources) => acceleration_at(id, position, sources, softening2),
-            Self::Tree(tree, theta) => tree.acceleration_at(id, position, theta, softening2),
+            Self::Tree {
+                tree,
+                theta,
+                sources,
+                accelerations,
+            } => match sources.binary_search_by_key(&id, |s| s.id) {
+                Ok(k) => accelerations[k],
+                Err(_) => tree.acceleration_at(id, position, theta, softening2),
+            },
         }
+    }
+}
+
+/// The pull through the Barnes–Hut tree over `sources` (sorted by id):
+/// rebuilds `tree` and computes every source's acceleration into
+/// `accelerations`, the groups split among threads as `stage` says.
+pub fn tree_pull<'a>(
+    sources: &'a [GravitySource],
+    theta: f64,
+    softening2: f64,
+    stage: StageExecution<'_>,
+    tree: &'a mut Octree,
+    accelerations: &'a mut Vec<Vec3>,
+) -> Pull<'a> {
+    tree.rebuild_split(sources, stage);
+    let tree = &*tree;
+    let by_group = stage.map_chunks(0..tree.group_count(), |groups| {
+        tree.group_accelerations(groups, theta, softening2)
+    });
+    accelerations.clear();
+    accelerations.resize(sources.len(), Vec3::ZERO);
+    for (a, &k) in by_group.into_iter().flatten().zip(tree.given_order()) {
+        accelerations[k as usize] = a;
+    }
+    Pull::Tree {
+        tree,
+        theta,
+        sources,
+        accelerations,
     }
 }
 
@@ -151,33 +208,44 @@ pub fn collect_sources<'a>(
     out.sort_unstable_by_key(|s| s.id);
 }
 
+/// What the gravity stage keeps between updates: the sources, the tree
+/// and the sources' accelerations through it.
+#[derive(Default)]
+struct GravityScratch {
+    sources: Vec<GravitySource>,
+    tree: Octree,
+    accelerations: Vec<Vec3>,
+}
+
 fn apply_gravity(
     settings: Res<SimulationSettings>,
     execution: Res<Execution>,
     mut timings: ResMut<StageTimings>,
-    mut sources: Local<Vec<GravitySource>>,
-    mut tree: Local<Octree>,
+    mut scratch: Local<GravityScratch>,
     all: Query<(&BodyId, &Position, &Mass, &GravityRole)>,
     mut bodies: Query<(&BodyId, &Position, &GravityRole, &mut Velocity)>,
 ) {
     let start = Instant::now();
     let all = all.contiguous_iter().expect("body components are table-stored");
-    collect_sources(all, f64::from(settings.gravitational_constant), &mut sources);
+    let GravityScratch {
+        sources,
+        tree,
+        accelerations,
+    } = &mut *scratch;
+    collect_sources(all, f64::from(settings.gravitational_constant), sources);
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
     // The split policy weighs the stage's work in pulls, the unit its
     // calibration measured (the thesis scene has one source).
-    let (pull, pulls_per_body) = match settings.gravity_method {
-        GravityMethod::Direct => (Pull::Direct(&sources), sources.len()),
-        GravityMethod::Tree { theta } => {
-            tree.rebuild(&sources);
-            (
-                Pull::Tree(&tree, f64::from(theta)),
-                sources.len().min(TREE_PULLS_PER_BODY),
-            )
-        }
+    let pulls_per_body = match settings.gravity_method {
+        GravityMethod::Direct => sources.len(),
+        GravityMethod::Tree { .. } => sources.len().min(TREE_PULLS_PER_BODY),
     };
     let work = bodies.iter().len().saturating_mul(pulls_per_body.max(1));
     let stage = execution.for_stage(SimulationSystems::Gravity.name(), work);
+    let pull = match settings.gravity_method {
+        GravityMethod::Direct => Pull::Direct(sources),
+        GravityMethod::Tree { theta } => tree_pull(sources, f64::from(theta), softening2, stage, tree, accelerations),
+    };
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     for (ids, positions, roles, mut velocities) in tables {
         let columns = (ids, positions, roles, velocities.bypass_change_detection());

@@ -16,7 +16,9 @@ use bevy::math::DVec3;
 use bevy::prelude::*;
 
 use super::gravity::{GravitySource, add_pulls};
+use super::gravity_columns::{FarColumns, NearColumns, far_field};
 use crate::components::BodyId;
+use crate::execution::StageExecution;
 
 /// Most sources in a leaf.
 pub const LEAF_SIZE: usize = 8;
@@ -38,47 +40,173 @@ struct Node {
     half: f64,
     /// Index of the first node after this node's subtree.
     skip: u32,
-    /// Leaf: its sources, `first..first + count`; `count == 0` inside.
+    /// The sources of its subtree, `first..first + len` in leaf order.
     first: u32,
-    count: u32,
+    len: u32,
+    /// Whether it is a leaf (its sources are summed one by one).
+    leaf: bool,
 }
 
+impl Node {
+    /// Its sources' range in leaf order.
+    fn range(&self) -> std::ops::Range<usize> {
+        self.first as usize..(self.first + self.len) as usize
+    }
+
+    /// Whether the node may pull every point of the box `lo..=hi` as a
+    /// whole: the box lies outside the node's cube, and the cube's edge is
+    /// below `θ` times the distance from the box to the center of mass.
+    /// Every point in the box then meets the single-point test too.
+    fn accepts(&self, lo: DVec3, hi: DVec3, theta2: f64) -> bool {
+        let apart = (lo - self.center).cmpgt(DVec3::splat(self.half)).any()
+            || (self.center - hi).cmpgt(DVec3::splat(self.half)).any();
+        let nearest = self.com.clamp(lo, hi);
+        let edge = 2.0 * self.half;
+        apart && edge * edge < theta2 * (self.com - nearest).length_squared()
+    }
+}
+
+/// Most sources in a group: the bodies that walk the tree together
+/// ([`Octree::source_accelerations`]).
+pub const GROUP_SIZE: u32 = 32;
+
 /// An octree over gravity sources.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Octree {
     nodes: Vec<Node>,
     /// The sources in leaf order.
     sources: Vec<GravitySource>,
+    /// For each source in leaf order, its index in the order given.
+    given: Vec<u32>,
+    /// The group nodes, in depth-first order: the highest nodes of at most
+    /// [`GROUP_SIZE`] sources; together they hold every source once.
+    groups: Vec<u32>,
 }
 
-/// The pull of a node's point mass and quadrupole on a body at `r` from
-/// its center of mass (`r2 = |r|² + ε²`):
-/// `−gm·r/r³ + Q·r/r⁵ − (5/2)·(rᵀQr)·r/r⁷`.
-#[inline]
-fn far_field(node: &Node, r: DVec3, r2: f64) -> DVec3 {
-    let [xx, yy, zz, xy, xz, yz] = node.quad;
-    let qr = DVec3::new(
-        xx * r.x + xy * r.y + xz * r.z,
-        xy * r.x + yy * r.y + yz * r.z,
-        xz * r.x + yz * r.y + zz * r.z,
-    );
-    let inv_r2 = 1.0 / r2;
-    let inv_r3 = inv_r2 * inv_r2.sqrt();
-    let inv_r5 = inv_r3 * inv_r2;
-    -r * (node.gm * inv_r3) + qr * inv_r5 - r * (2.5 * r.dot(qr) * inv_r5 * inv_r2)
+/// What a group of bodies sums: the nodes it takes whole and the leaves it
+/// sums source by source, both in depth-first order.
+#[derive(Default)]
+struct Interactions {
+    far: Vec<u32>,
+    near: Vec<u32>,
 }
 
 fn octant(p: DVec3, center: DVec3) -> usize {
     usize::from(p.x >= center.x) | usize::from(p.y >= center.y) << 1 | usize::from(p.z >= center.z) << 2
 }
 
+/// A source with its index in the order the tree was built from.
+type Item = (GravitySource, u32);
+
+/// A subtree built on its own: its nodes (indices from 0) and its sources
+/// in leaf order.
+type Piece = (Vec<Node>, Vec<Item>);
+
+/// The node of `items` (the sources `first..` in leaf order): mass, center
+/// of mass, quadrupole; `skip` is set once its subtree is built.
+fn node_of(items: &[Item], first: usize, center: DVec3, half: f64, depth: u32) -> Node {
+    let gm: f64 = items.iter().map(|(s, _)| s.gm).sum();
+    let com = if gm > 0.0 {
+        items.iter().map(|(s, _)| s.position * s.gm).sum::<DVec3>() / gm
+    } else {
+        center
+    };
+    let mut quad = [0.0; 6];
+    for (s, _) in items {
+        let x = s.position - com;
+        let r2 = x.length_squared();
+        let terms = [
+            3.0 * x.x * x.x - r2,
+            3.0 * x.y * x.y - r2,
+            3.0 * x.z * x.z - r2,
+            3.0 * x.x * x.y,
+            3.0 * x.x * x.z,
+            3.0 * x.y * x.z,
+        ];
+        for (q, t) in quad.iter_mut().zip(terms) {
+            *q += s.gm * t;
+        }
+    }
+    Node {
+        com,
+        gm,
+        quad,
+        center,
+        half,
+        skip: 0,
+        first: first as u32,
+        len: items.len() as u32,
+        leaf: items.len() <= LEAF_SIZE || depth >= MAX_DEPTH,
+    }
+}
+
+/// Sorts the items of a node centered at `center` into its octants
+/// (stably: within an octant they keep their order) and returns each
+/// non-empty octant's range in `items` and its center.
+fn octants(items: &mut [Item], center: DVec3, half: f64) -> Vec<(std::ops::Range<usize>, DVec3)> {
+    items.sort_by_key(|(s, _)| octant(s.position, center));
+    let mut out = Vec::with_capacity(8);
+    let mut start = 0;
+    for k in 0..8 {
+        let end = start + items[start..].partition_point(|(s, _)| octant(s.position, center) == k);
+        if end > start {
+            let sign = |bit: usize| if k & bit != 0 { 0.5 } else { -0.5 };
+            out.push((start..end, center + DVec3::new(sign(1), sign(2), sign(4)) * half));
+        }
+        start = end;
+    }
+    out
+}
+
+/// Kernel: builds the subtree of `items` (the sources `first..` in leaf
+/// order) depth first into `nodes`, whose indices start at `nodes.len()`.
+fn build(nodes: &mut Vec<Node>, items: &mut [Item], first: usize, center: DVec3, half: f64, depth: u32) {
+    let index = nodes.len();
+    nodes.push(node_of(items, first, center, half, depth));
+    if !nodes[index].leaf {
+        for (range, child) in octants(items, center, half) {
+            let start = range.start;
+            build(nodes, &mut items[range], first + start, child, half * 0.5, depth + 1);
+        }
+    }
+    nodes[index].skip = nodes.len() as u32;
+}
+
 impl Octree {
     /// Kernel: the tree over `sources` (in the order given, which fixes the
-    /// order of every sum), reusing this tree's buffers.
+    /// order of every sum), reusing this tree's buffers; built on this
+    /// thread.
     pub fn rebuild(&mut self, sources: &[GravitySource]) {
+        self.rebuild_with(sources, |piece, count| (0..count).map(piece).collect());
+    }
+
+    /// [`rebuild`](Self::rebuild) with the root's octants built in
+    /// parallel as `stage` splits them: the same tree, bit for bit (each
+    /// octant's subtree is built the same way wherever it is built, and
+    /// the pieces are joined in octant order).
+    pub fn rebuild_split(&mut self, sources: &[GravitySource], stage: StageExecution<'_>) {
+        self.rebuild_with(sources, |piece, count| {
+            stage
+                .map_chunks(0..count, |octants: std::ops::Range<usize>| {
+                    octants.map(&piece).collect::<Vec<Piece>>()
+                })
+                .into_iter()
+                .flatten()
+                .collect()
+        });
+    }
+
+    /// The tree over `sources`: the root here, the subtrees of its octants
+    /// by `pieces` (given how to build the k-th and how many there are).
+    fn rebuild_with(
+        &mut self,
+        sources: &[GravitySource],
+        pieces: impl FnOnce(&(dyn Fn(usize) -> Piece + Sync), usize) -> Vec<Piece>,
+    ) {
         self.nodes.clear();
+        self.groups.clear();
         self.sources.clear();
-        self.sources.extend_from_slice(sources);
+        self.given.clear();
         if sources.is_empty() {
             return;
         }
@@ -88,63 +216,41 @@ impl Octree {
         );
         let center = (lo + hi) * 0.5;
         let half = ((hi - lo).max_element() * 0.5).max(f64::MIN_POSITIVE);
-        let mut sources = std::mem::take(&mut self.sources);
-        self.build(&mut sources, 0, center, half, 0);
-        self.sources = sources;
-    }
-
-    /// Builds the node of `items` (the sources `first..` in leaf order)
-    /// and its subtree, depth first.
-    fn build(&mut self, items: &mut [GravitySource], first: usize, center: DVec3, half: f64, depth: u32) {
-        let index = self.nodes.len();
-        let gm: f64 = items.iter().map(|s| s.gm).sum();
-        let com = if gm > 0.0 {
-            items.iter().map(|s| s.position * s.gm).sum::<DVec3>() / gm
+        let mut items: Vec<Item> = sources.iter().copied().zip(0..).collect();
+        self.nodes.push(node_of(&items, 0, center, half, 0));
+        if !self.nodes[0].leaf {
+            let children = octants(&mut items, center, half);
+            let items = &items;
+            let piece = |k: usize| -> Piece {
+                let (range, child) = &children[k];
+                let mut mine = items[range.clone()].to_vec();
+                let mut nodes = Vec::new();
+                build(&mut nodes, &mut mine, range.start, *child, half * 0.5, 1);
+                (nodes, mine)
+            };
+            for (nodes, mine) in pieces(&piece, children.len()) {
+                let offset = self.nodes.len() as u32;
+                self.nodes.extend(nodes.into_iter().map(|n| Node {
+                    skip: n.skip + offset,
+                    ..n
+                }));
+                self.sources.extend(mine.iter().map(|(s, _)| *s));
+                self.given.extend(mine.iter().map(|(_, k)| *k));
+            }
         } else {
-            center
-        };
-        let mut quad = [0.0; 6];
-        for s in items.iter() {
-            let x = s.position - com;
-            let r2 = x.length_squared();
-            let terms = [
-                3.0 * x.x * x.x - r2,
-                3.0 * x.y * x.y - r2,
-                3.0 * x.z * x.z - r2,
-                3.0 * x.x * x.y,
-                3.0 * x.x * x.z,
-                3.0 * x.y * x.z,
-            ];
-            for (q, t) in quad.iter_mut().zip(terms) {
-                *q += s.gm * t;
+            self.sources.extend(items.iter().map(|(s, _)| *s));
+            self.given.extend(items.iter().map(|(_, k)| *k));
+        }
+        self.nodes[0].skip = self.nodes.len() as u32;
+        let mut i = 0;
+        while i < self.nodes.len() {
+            if self.nodes[i].len <= GROUP_SIZE {
+                self.groups.push(i as u32);
+                i = self.nodes[i].skip as usize;
+            } else {
+                i += 1;
             }
         }
-        let leaf = items.len() <= LEAF_SIZE || depth >= MAX_DEPTH;
-        self.nodes.push(Node {
-            com,
-            gm,
-            quad,
-            center,
-            half,
-            skip: 0,
-            first: first as u32,
-            count: if leaf { items.len() as u32 } else { 0 },
-        });
-        if !leaf {
-            // Stable: within an octant the sources keep their order.
-            items.sort_by_key(|s| octant(s.position, center));
-            let mut start = 0;
-            for k in 0..8 {
-                let end = start + items[start..].partition_point(|s| octant(s.position, center) == k);
-                if end > start {
-                    let sign = |bit: usize| if k & bit != 0 { 0.5 } else { -0.5 };
-                    let child = center + DVec3::new(sign(1), sign(2), sign(4)) * half;
-                    self.build(&mut items[start..end], first + start, child, half * 0.5, depth + 1);
-                }
-                start = end;
-            }
-        }
-        self.nodes[index].skip = self.nodes.len() as u32;
     }
 
     /// Number of nodes.
@@ -166,9 +272,8 @@ impl Octree {
         let mut i = 0;
         while i < self.nodes.len() {
             let node = &self.nodes[i];
-            if node.count > 0 {
-                let leaf = &self.sources[node.first as usize..(node.first + node.count) as usize];
-                add_pulls(&mut a, id, p, leaf, softening2);
+            if node.leaf {
+                add_pulls(&mut a, id, p, &self.sources[node.range()], softening2);
                 i = node.skip as usize;
                 continue;
             }
@@ -177,13 +282,83 @@ impl Octree {
             let edge = 2.0 * node.half;
             let inside = (p - node.center).abs().max_element() <= node.half;
             if !inside && edge * edge < theta2 * r2 {
-                a += far_field(node, -d, r2 + softening2);
+                a += far_field(node.gm, node.quad, -d, r2 + softening2);
                 i = node.skip as usize;
             } else {
                 i += 1;
             }
         }
         a.as_vec3()
+    }
+
+    /// Number of groups (see [`source_accelerations`](Self::source_accelerations)).
+    pub fn group_count(&self) -> usize {
+        self.groups.len()
+    }
+
+    /// Kernel: the acceleration of every source in the groups `groups`
+    /// (a range of group indices), in leaf order. The sources of a group walk
+    /// the tree once, together: a node is taken whole when it may pull
+    /// every point of the group's bounding box as a whole
+    /// ([`Node::accepts`]), so each source sums at least as precisely as
+    /// in its own walk; then each source sums the taken nodes, and the
+    /// leaves' sources one by one, in depth-first order, so its sum does not
+    /// depend on how the groups are split among threads.
+    pub fn group_accelerations(&self, groups: std::ops::Range<usize>, theta: f64, softening2: f64) -> Vec<Vec3> {
+        let theta2 = theta * theta;
+        let mut list = Interactions::default();
+        let (mut near, mut far) = (NearColumns::default(), FarColumns::default());
+        let mut out = Vec::new();
+        for &group in &self.groups[groups] {
+            let members = &self.sources[self.nodes[group as usize].range()];
+            let (lo, hi) = members.iter().fold(
+                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                |(lo, hi), s| (lo.min(s.position), hi.max(s.position)),
+            );
+            self.interactions(lo, hi, theta2, &mut list);
+            far.clear();
+            for &k in &list.far {
+                let node = &self.nodes[k as usize];
+                far.push(node.com, node.gm, node.quad);
+            }
+            far.pad();
+            near.clear();
+            for &k in &list.near {
+                near.extend(&self.sources[self.nodes[k as usize].range()]);
+            }
+            near.pad();
+            out.extend(
+                members
+                    .iter()
+                    .map(|s| (far.pull_on(s.position, softening2) + near.pull_on(s.position, softening2)).as_vec3()),
+            );
+        }
+        out
+    }
+
+    /// The nodes the box `lo..=hi` takes whole and the leaves it opens.
+    fn interactions(&self, lo: DVec3, hi: DVec3, theta2: f64, list: &mut Interactions) {
+        list.far.clear();
+        list.near.clear();
+        let mut i = 0;
+        while i < self.nodes.len() {
+            let node = &self.nodes[i];
+            if node.leaf {
+                list.near.push(i as u32);
+                i = node.skip as usize;
+            } else if node.accepts(lo, hi, theta2) {
+                list.far.push(i as u32);
+                i = node.skip as usize;
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// For each source in leaf order, its index in the order the tree was
+    /// built from.
+    pub fn given_order(&self) -> &[u32] {
+        &self.given
     }
 }
 
@@ -236,6 +411,61 @@ mod tests {
         eprintln!("θ = 0.5: median relative error {median:.2e}, 99th percentile {p99:.2e}");
         assert!(median <= 1e-3, "median relative error {median}");
         assert!(p99 <= 1e-2, "99th percentile {p99}");
+    }
+
+    /// Every source's acceleration from the group walks, in the order
+    /// given; the groups cut into uneven chunks as threads would.
+    fn grouped(sources: &[GravitySource], theta: f64) -> Vec<Vec3> {
+        let mut tree = Octree::default();
+        tree.rebuild(sources);
+        let n = tree.group_count();
+        let cuts = [0, n / 7, n / 3, n / 3 + 1, n];
+        let mut out = vec![Vec3::ZERO; sources.len()];
+        let leaf_order = cuts
+            .windows(2)
+            .flat_map(|w| tree.group_accelerations(w[0]..w[1], theta, 1.0));
+        for (a, &k) in leaf_order.zip(tree.given_order()) {
+            out[k as usize] = a;
+        }
+        assert_eq!(tree.given_order().len(), sources.len());
+        out
+    }
+
+    #[test]
+    fn groups_meet_the_goal_and_give_the_direct_sum_at_theta_zero() {
+        let sources = cluster(3000, 1);
+        let direct: Vec<DVec3> = sources
+            .iter()
+            .map(|s| acceleration_at(s.id, s.position.as_vec3(), &sources, 1.0).as_dvec3())
+            .collect();
+        let errors = |theta| {
+            let mut e: Vec<f64> = grouped(&sources, theta)
+                .iter()
+                .zip(&direct)
+                .map(|(a, d)| (a.as_dvec3() - *d).length() / d.length())
+                .collect();
+            e.sort_unstable_by(f64::total_cmp);
+            e
+        };
+        let e = errors(0.5);
+        let (median, p99) = (e[e.len() / 2], e[e.len() * 99 / 100]);
+        eprintln!("groups, θ = 0.5: median relative error {median:.2e}, 99th percentile {p99:.2e}");
+        assert!(median <= 1e-3 && p99 <= 1e-2, "median {median}, 99th percentile {p99}");
+        let worst = errors(0.0)[sources.len() - 1];
+        assert!(worst <= 1e-6, "θ = 0: worst relative error {worst}");
+    }
+
+    #[test]
+    fn the_tree_built_in_parallel_is_the_tree_built_on_one_thread() {
+        use crate::execution::{Execution, ExecutionMode};
+        let sources = cluster(5000, 4);
+        let mut whole = Octree::default();
+        whole.rebuild(&sources);
+        let execution = Execution::new(ExecutionMode::Parallel, 3).unwrap().fine_grained();
+        let mut split = Octree::default();
+        split.rebuild_split(&sources, execution.for_stage("test", sources.len()));
+        assert!(whole.len() > 500);
+        assert_eq!(split, whole);
     }
 
     #[test]

@@ -5,6 +5,7 @@ mod broad_phase;
 mod contact;
 mod fault;
 mod gravity;
+mod gravity_columns;
 mod gravity_tree;
 mod integrate;
 mod plugins;
