@@ -449,3 +449,46 @@ fn a_benchmark_with_render_runs_needs_a_display_and_writes_nothing_without() {
         "only the config is there"
     );
 }
+
+/// A settings file that is a FIFO, and a saved scenario that names one,
+/// are refused at once with a warning: the window opens on defaults and
+/// the built-in scene instead of waiting for a writer.
+#[cfg(unix)]
+#[test]
+fn fifos_as_settings_or_saved_scenario_warn_instead_of_hanging() {
+    if !window_available("fifos_as_settings_or_saved_scenario_warn_instead_of_hanging") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("fifo.ron");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    // The saved scenario is the FIFO.
+    let settings = format!("(scenario: Some({:?}))", fifo.display().to_string());
+    let (.., stderr, took) = run_window_frames(dir.path(), "fifo-scenario", &settings, 3, &["--paused"]);
+    assert!(
+        stderr.contains("saved scenario") && stderr.contains("is a FIFO (named pipe)"),
+        "{stderr}"
+    );
+    assert!(took < Duration::from_secs(100), "took {took:?}");
+    // The settings file is the FIFO.
+    let shot = dir.path().join("fifo-settings.png");
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_kessler"))
+        .args(["run", "--frames", "3", "--paused", "--bodies", "100", "--screenshot"])
+        .arg(&shot)
+        .arg("--settings")
+        .arg(&fifo)
+        .env("WGPU_BACKEND", "vulkan")
+        .output()
+        .expect("xvfb-run runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("is a FIFO (named pipe)"), "{stderr}");
+    use std::os::unix::fs::FileTypeExt;
+    assert!(
+        std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo(),
+        "the FIFO was replaced"
+    );
+}
