@@ -154,7 +154,7 @@ fn split<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SplitPolicy>, D::Erro
 }
 
 fn seed<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
-    read(d, "seed").map(Some)
+    whole_between(d, "seed", 0, u64::MAX).map(Some)
 }
 
 fn shatter_fragments<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {

@@ -58,6 +58,12 @@ pub fn vec3_where<'de, D: Deserializer<'de>>(
     }
 }
 
+/// A whole number, with the rule it must follow said if the value is not
+/// one of its type (negative, too large, not a number).
+fn whole<'de, T: Deserialize<'de>, D: Deserializer<'de>>(d: D, field: &str, rule: &str) -> Result<T, D::Error> {
+    T::deserialize(d).map_err(|e| D::Error::custom(format!("field `{field}`: must be a whole number {rule} ({e})")))
+}
+
 /// A whole number from `min` to `max`.
 pub fn whole_between<'de, D, T>(d: D, field: &str, min: T, max: T) -> Result<T, D::Error>
 where
@@ -65,7 +71,14 @@ where
     T: Deserialize<'de> + PartialOrd + Display,
 {
     let rule = format!("between {min} and {max}");
-    checked(d, field, rule, |v| min <= *v && *v <= max)
+    let value: T = whole(d, field, &rule)?;
+    if min <= value && value <= max {
+        Ok(value)
+    } else {
+        Err(D::Error::custom(format!(
+            "field `{field}`: must be {rule}, got {value}"
+        )))
+    }
 }
 
 /// A whole number of at least `min`.
@@ -75,12 +88,19 @@ where
     T: Deserialize<'de> + PartialOrd + Display,
 {
     let rule = format!("at least {min}");
-    checked(d, field, rule, |v| min <= *v)
+    let value: T = whole(d, field, &rule)?;
+    if min <= value {
+        Ok(value)
+    } else {
+        Err(D::Error::custom(format!(
+            "field `{field}`: must be {rule}, got {value}"
+        )))
+    }
 }
 
 /// A count of bodies of at most `max`: more would not fit in memory.
 pub fn body_count<'de, D: Deserializer<'de>>(d: D, field: &str, max: u64) -> Result<u64, D::Error> {
-    let value: u64 = read(d, field)?;
+    let value: u64 = whole(d, field, &format!("from 0 to {max}"))?;
     if value <= max {
         Ok(value)
     } else {

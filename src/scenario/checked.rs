@@ -153,6 +153,17 @@ pub fn next_id<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error>
     whole_between(d, "next_id", 0, MAX_ID).map(Some)
 }
 
+/// `seed`: any whole number from 0 to 2^64 − 1.
+pub fn seed<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    whole_between(d, "seed", 0, u64::MAX)
+}
+
+/// A shell's `around`: an index into `bodies` (checked against them
+/// later).
+pub fn around<'de, D: Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
+    whole_between(d, "around", 0, usize::MAX)
+}
+
 /// A generator's `count`: at most [`MAX_BODIES`].
 pub fn count<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
     body_count(d, "count", MAX_BODIES)

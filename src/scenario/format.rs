@@ -61,7 +61,7 @@ pub struct Scenario {
     #[serde(default = "defaults::max_bodies", deserialize_with = "checked::max_bodies")]
     pub max_bodies: u64,
     /// Seed of the generators and of the fragments' spread; default 1.
-    #[serde(default = "defaults::seed")]
+    #[serde(default = "defaults::seed", deserialize_with = "checked::seed")]
     pub seed: u64,
     /// The first id fresh bodies (fragments) get; default: one past the
     /// highest id. Snapshots set it, so that a continued run hands out the
@@ -176,6 +176,7 @@ pub struct Shell {
     #[serde(deserialize_with = "checked::count")]
     pub count: u64,
     /// Index (in `bodies`) of the source to orbit.
+    #[serde(deserialize_with = "checked::around")]
     pub around: usize,
     /// Smallest orbit radius.
     #[serde(deserialize_with = "checked::inner_radius")]
