@@ -120,10 +120,19 @@ fn probe(path: &Path) -> std::io::Result<()> {
 
 /// Checks that no two of a command's `outputs` (option and path) are one
 /// file: the last written would silently replace the other.
+/// Each path is compared as its folder, resolved (links and `..`), and its
+/// name; check each with [`check_replaceable`] first, so the folders exist.
 pub fn check_distinct(outputs: &[(&str, &Path)]) -> Result<(), OutputError> {
-    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
+    let identity = |p: &Path| {
+        let folder = p
+            .parent()
+            .filter(|f| !f.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_owned());
+        folder.join(p.file_name().unwrap_or_default())
+    };
     for (k, (flag, path)) in outputs.iter().enumerate() {
-        if let Some((other, _)) = outputs[..k].iter().find(|(_, p)| absolute(p) == absolute(path)) {
+        if let Some((other, _)) = outputs[..k].iter().find(|(_, p)| identity(p) == identity(path)) {
             return Err(problem(flag, path, OutputProblem::SameAs(other.to_string())));
         }
     }

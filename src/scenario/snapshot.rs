@@ -6,6 +6,7 @@
 
 use std::io::{self, Write};
 
+use super::checked::MAX_STATE;
 use crate::components::BodyState;
 use crate::resources::{GravityMethod, SimulationSettings};
 
@@ -33,6 +34,21 @@ fn vector(v: bevy::math::Vec3) -> String {
 /// Writes `snapshot` as a scenario file.
 pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Result<()> {
     BodyState::check_all_finite(snapshot.bodies)?;
+    // What a scenario file may hold, so that the snapshot loads back.
+    let beyond = |v: bevy::math::Vec3| v.abs().max_element() > MAX_STATE;
+    if let Some(b) = snapshot
+        .bodies
+        .iter()
+        .find(|b| beyond(b.position) || beyond(b.previous) || beyond(b.velocity))
+    {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!(
+                "body {} is beyond ±1e30 (position {}, velocity {}), which a scenario cannot hold; nothing was written",
+                b.id.0, b.position, b.velocity
+            ),
+        ));
+    }
     let s = snapshot.settings;
     let name = ron::to_string(snapshot.name).map_err(io::Error::other)?;
     writeln!(

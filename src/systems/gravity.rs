@@ -141,7 +141,9 @@ pub fn tree_pull<'a>(
     });
     accelerations.clear();
     accelerations.resize(sources.len(), Vec3::ZERO);
-    for (a, &k) in by_group.into_iter().flatten().zip(tree.given_order()) {
+    let in_leaf_order: Vec<Vec3> = by_group.into_iter().flatten().collect();
+    debug_assert_eq!(in_leaf_order.len(), sources.len(), "every source is in one group");
+    for (a, &k) in in_leaf_order.into_iter().zip(tree.given_order()) {
         accelerations[k as usize] = a;
     }
     Pull::Tree {

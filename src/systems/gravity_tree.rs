@@ -95,6 +95,14 @@ fn octant(p: DVec3, center: DVec3) -> usize {
     usize::from(p.x >= center.x) | usize::from(p.y >= center.y) << 1 | usize::from(p.z >= center.z) << 2
 }
 
+/// The least and greatest corner of the sources' positions.
+fn bounds(sources: &[GravitySource]) -> (DVec3, DVec3) {
+    sources.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), s| (lo.min(s.position), hi.max(s.position)),
+    )
+}
+
 /// A source with its index in the order the tree was built from.
 type Item = (GravitySource, u32);
 
@@ -210,10 +218,7 @@ impl Octree {
         if sources.is_empty() {
             return;
         }
-        let (lo, hi) = sources.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), s| (lo.min(s.position), hi.max(s.position)),
-        );
+        let (lo, hi) = bounds(sources);
         let center = (lo + hi) * 0.5;
         let half = ((hi - lo).max_element() * 0.5).max(f64::MIN_POSITIVE);
         let mut items: Vec<Item> = sources.iter().copied().zip(0..).collect();
@@ -244,7 +249,10 @@ impl Octree {
         self.nodes[0].skip = self.nodes.len() as u32;
         let mut i = 0;
         while i < self.nodes.len() {
-            if self.nodes[i].len <= GROUP_SIZE {
+            // A leaf holds more only at the deepest level (sources on one
+            // point); it is a group all the same, so that every source is
+            // in exactly one group.
+            if self.nodes[i].len <= GROUP_SIZE || self.nodes[i].leaf {
                 self.groups.push(i as u32);
                 i = self.nodes[i].skip as usize;
             } else {
@@ -311,10 +319,7 @@ impl Octree {
         let mut out = Vec::new();
         for &group in &self.groups[groups] {
             let members = &self.sources[self.nodes[group as usize].range()];
-            let (lo, hi) = members.iter().fold(
-                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                |(lo, hi), s| (lo.min(s.position), hi.max(s.position)),
-            );
+            let (lo, hi) = bounds(members);
             self.interactions(lo, hi, theta2, &mut list);
             far.clear();
             for &k in &list.far {
@@ -466,6 +471,33 @@ mod tests {
         split.rebuild_split(&sources, execution.for_stage("test", sources.len()));
         assert!(whole.len() > 500);
         assert_eq!(split, whole);
+    }
+
+    /// A leaf at the deepest level holds every source on one point, more
+    /// than a group's worth: it is a group too, and every source gets its
+    /// own acceleration.
+    #[test]
+    fn sources_on_one_point_beyond_a_group_are_a_group_too() {
+        let mut sources: Vec<GravitySource> = (0..40)
+            .map(|i| GravitySource {
+                id: BodyId(i),
+                position: DVec3::splat(3.0),
+                gm: 1.0,
+            })
+            .collect();
+        sources.push(GravitySource {
+            id: BodyId(40),
+            position: DVec3::new(13.0, 3.0, 3.0),
+            gm: 2.0,
+        });
+        let got = grouped(&sources, 0.5);
+        // Each of the 40 feels the lone source 10 away (softening 1) and not
+        // the others on its point; the lone one feels all 40.
+        let pull = |gm: f64| (gm * 10.0 / 101f64.powf(1.5)) as f32;
+        for a in &got[..40] {
+            assert!((a.x - pull(2.0)).abs() < 1e-6 && a.y == 0.0, "{a}");
+        }
+        assert!((got[40].x + pull(40.0)).abs() < 1e-5, "{}", got[40]);
     }
 
     #[test]

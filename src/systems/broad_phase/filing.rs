@@ -53,8 +53,9 @@ pub struct CornerSample {
 }
 
 /// Kernel: the bounds of the lower y–z corners of the boxes in `range`, and
-/// the corners of the boxes whose index is a multiple of `stride` (so the
-/// sample does not depend on how the boxes are cut into chunks).
+/// the corners and extents of the boxes whose index is a multiple of
+/// `stride` (so the sample does not depend on how the boxes are cut into
+/// chunks).
 pub fn corner_sample<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>, stride: usize) -> CornerSample {
     let stride = stride.max(1);
     let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
