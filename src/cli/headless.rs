@@ -29,15 +29,6 @@ pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
     if let Some(gravity) = args.gravity {
         scenario.gravity = gravity;
     }
-    if let Some(path) = &args.dump {
-        check_replaceable("--dump", path)?;
-    }
-    if let Some(path) = &args.save_scenario {
-        check_replaceable("--save-scenario", path)?;
-    }
-    if let Some(path) = &args.timeline {
-        check_replaceable("--timeline", path)?;
-    }
     let named: Vec<(&str, &Path)> = [
         ("--dump", &args.dump),
         ("--save-scenario", &args.save_scenario),
@@ -46,6 +37,9 @@ pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
     .into_iter()
     .filter_map(|(flag, path)| path.as_deref().map(|p| (flag, p)))
     .collect();
+    for (flag, path) in &named {
+        check_replaceable(flag, path)?;
+    }
     check_distinct(&named)?;
     let outputs = Outputs {
         dump: args.dump.as_deref(),

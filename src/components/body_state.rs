@@ -61,18 +61,21 @@ pub struct BodyState {
 }
 
 impl BodyState {
-    /// Fails, naming the first body (in the order given) whose position,
-    /// previous position, velocity, mass or size is not finite: what every
-    /// writer of bodies (dump, snapshot) checks before writing anything.
+    /// Whether its position, previous position, velocity, mass and size
+    /// are all finite.
+    pub fn is_finite(&self) -> bool {
+        self.position.is_finite()
+            && self.previous.is_finite()
+            && self.velocity.is_finite()
+            && self.half_extents.is_finite()
+            && self.mass.is_finite()
+    }
+
+    /// Fails, naming the first body (in the order given) that is not
+    /// [finite](Self::is_finite): what every writer of bodies (dump,
+    /// snapshot) checks before writing anything.
     pub fn check_all_finite(bodies: &[Self]) -> std::io::Result<()> {
-        let finite = |b: &&Self| {
-            b.position.is_finite()
-                && b.previous.is_finite()
-                && b.velocity.is_finite()
-                && b.half_extents.is_finite()
-                && b.mass.is_finite()
-        };
-        match bodies.iter().find(|b| !finite(b)) {
+        match bodies.iter().find(|b| !b.is_finite()) {
             None => Ok(()),
             Some(b) => Err(std::io::Error::new(
                 std::io::ErrorKind::InvalidData,

@@ -10,20 +10,17 @@
 //!   within the sweep's [`pair_limit`](crate::systems::pair_limit) (bodies
 //!   placed at one point are N² pairs).
 
-use crate::components::{BodyId, BodyState, GravityRole, Position, PreviousPosition, Velocity};
+use crate::components::{BodyId, BodyState, GravityRole, Mass, Position, PreviousPosition, Velocity};
 use crate::execution::{Execution, ExecutionMode};
-use crate::resources::{GravityMethod, SimulationSettings};
+use crate::resources::SimulationSettings;
 use crate::systems::{
-    Aabb, GravitySource, Octree, Pull, SortedBoxes, first_non_finite, gravity_kernel, integrate_kernel,
-    sweep_and_prune, tree_pull,
+    Aabb, PullScratch, SortedBoxes, collect_sources, first_non_finite, gravity_kernel, integrate_kernel, prepare_pull,
+    sweep_and_prune,
 };
 
 /// What is wrong with the initial state, in words naming the body by id.
 pub fn check_start(bodies: &[BodyState], settings: &SimulationSettings) -> Result<(), String> {
-    if let Some(b) = bodies
-        .iter()
-        .find(|b| !(b.position.is_finite() && b.velocity.is_finite()))
-    {
+    if let Some(b) = bodies.iter().find(|b| !b.is_finite()) {
         return Err(format!(
             "body {} starts with a non-finite state (position {}, velocity {})",
             b.id.0, b.position, b.velocity
@@ -47,34 +44,32 @@ fn first_update_stays_finite(
 ) -> Result<(), String> {
     let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();
     let roles: Vec<GravityRole> = bodies.iter().map(|b| b.role).collect();
+    let masses: Vec<Mass> = bodies.iter().map(|b| Mass(b.mass)).collect();
     let mut positions: Vec<Position> = bodies.iter().map(|b| Position(b.position)).collect();
     let mut velocities: Vec<Velocity> = bodies.iter().map(|b| Velocity(b.velocity)).collect();
     let mut previous = vec![PreviousPosition::default(); bodies.len()];
-    let g = f64::from(settings.gravitational_constant);
-    let mut sources: Vec<GravitySource> = bodies
-        .iter()
-        .filter(|b| b.role.is_source())
-        .map(|b| GravitySource {
-            id: b.id,
-            position: b.position.as_dvec3(),
-            gm: g * f64::from(b.mass),
-        })
-        .collect();
-    sources.sort_unstable_by_key(|s| s.id);
+    let mut sources = Vec::new();
+    let table = (
+        ids.as_slice(),
+        positions.as_slice(),
+        masses.as_slice(),
+        roles.as_slice(),
+    );
+    collect_sources(
+        std::iter::once(table),
+        f64::from(settings.gravitational_constant),
+        &mut sources,
+    );
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
-    let stage = execution.for_stage("start check", bodies.len().saturating_mul(sources.len().max(1)));
-    let (mut tree, mut accelerations) = (Octree::default(), Vec::new());
-    let pull = match settings.gravity_method {
-        GravityMethod::Direct => Pull::Direct(&sources),
-        GravityMethod::Tree { theta } => tree_pull(
-            &sources,
-            f64::from(theta),
-            softening2,
-            stage,
-            &mut tree,
-            &mut accelerations,
-        ),
-    };
+    let mut scratch = PullScratch::default();
+    let (pull, stage) = prepare_pull(
+        settings.gravity_method,
+        &sources,
+        bodies.len(),
+        softening2,
+        execution,
+        &mut scratch,
+    );
     let columns = (
         ids.as_slice(),
         positions.as_slice(),

@@ -123,17 +123,52 @@ impl Pull<'_> {
     }
 }
 
+/// What a tree pull is made in, kept between updates: the tree and the
+/// sources' accelerations through it.
+#[derive(Clone, Debug, Default)]
+pub struct PullScratch {
+    tree: Octree,
+    accelerations: Vec<Vec3>,
+}
+
+/// The gravity stage's pull as `method` asks for it, over `sources`
+/// (sorted by id) for `bodies` bodies, and the stage's execution: split as
+/// the policy says for the stage's work, weighed in pulls (bodies ×
+/// sources, or × about 1 000 through the tree), the unit its calibration
+/// measured with the thesis's single source. A tree is built and its
+/// sources' accelerations computed here, in `scratch`.
+pub fn prepare_pull<'a>(
+    method: GravityMethod,
+    sources: &'a [GravitySource],
+    bodies: usize,
+    softening2: f64,
+    execution: &'a Execution,
+    scratch: &'a mut PullScratch,
+) -> (Pull<'a>, StageExecution<'a>) {
+    let pulls_per_body = match method {
+        GravityMethod::Direct => sources.len(),
+        GravityMethod::Tree { .. } => sources.len().min(TREE_PULLS_PER_BODY),
+    };
+    let work = bodies.saturating_mul(pulls_per_body.max(1));
+    let stage = execution.for_stage(SimulationSystems::Gravity.name(), work);
+    let pull = match method {
+        GravityMethod::Direct => Pull::Direct(sources),
+        GravityMethod::Tree { theta } => tree_pull(sources, f64::from(theta), softening2, stage, scratch),
+    };
+    (pull, stage)
+}
+
 /// The pull through the Barnes–Hut tree over `sources` (sorted by id):
-/// rebuilds `tree` and computes every source's acceleration into
-/// `accelerations`, the groups split among threads as `stage` says.
-pub fn tree_pull<'a>(
+/// rebuilds the tree and computes every source's acceleration, the groups
+/// split among threads as `stage` says.
+fn tree_pull<'a>(
     sources: &'a [GravitySource],
     theta: f64,
     softening2: f64,
     stage: StageExecution<'_>,
-    tree: &'a mut Octree,
-    accelerations: &'a mut Vec<Vec3>,
+    scratch: &'a mut PullScratch,
 ) -> Pull<'a> {
+    let PullScratch { tree, accelerations } = scratch;
     tree.rebuild_split(sources, stage);
     let tree = &*tree;
     let by_group = stage.map_chunks(0..tree.group_count(), |groups| {
@@ -210,13 +245,12 @@ pub fn collect_sources<'a>(
     out.sort_unstable_by_key(|s| s.id);
 }
 
-/// What the gravity stage keeps between updates: the sources, the tree
-/// and the sources' accelerations through it.
+/// What the gravity stage keeps between updates: the sources and what its
+/// pull is made in.
 #[derive(Default)]
 struct GravityScratch {
     sources: Vec<GravitySource>,
-    tree: Octree,
-    accelerations: Vec<Vec3>,
+    pull: PullScratch,
 }
 
 fn apply_gravity(
@@ -229,25 +263,17 @@ fn apply_gravity(
 ) {
     let start = Instant::now();
     let all = all.contiguous_iter().expect("body components are table-stored");
-    let GravityScratch {
-        sources,
-        tree,
-        accelerations,
-    } = &mut *scratch;
+    let GravityScratch { sources, pull } = &mut *scratch;
     collect_sources(all, f64::from(settings.gravitational_constant), sources);
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
-    // The split policy weighs the stage's work in pulls, the unit its
-    // calibration measured (the thesis scene has one source).
-    let pulls_per_body = match settings.gravity_method {
-        GravityMethod::Direct => sources.len(),
-        GravityMethod::Tree { .. } => sources.len().min(TREE_PULLS_PER_BODY),
-    };
-    let work = bodies.iter().len().saturating_mul(pulls_per_body.max(1));
-    let stage = execution.for_stage(SimulationSystems::Gravity.name(), work);
-    let pull = match settings.gravity_method {
-        GravityMethod::Direct => Pull::Direct(sources),
-        GravityMethod::Tree { theta } => tree_pull(sources, f64::from(theta), softening2, stage, tree, accelerations),
-    };
+    let (pull, stage) = prepare_pull(
+        settings.gravity_method,
+        sources,
+        bodies.iter().len(),
+        softening2,
+        &execution,
+        pull,
+    );
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     for (ids, positions, roles, mut velocities) in tables {
         let columns = (ids, positions, roles, velocities.bypass_change_detection());

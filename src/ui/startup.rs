@@ -1,7 +1,7 @@
 //! What the window starts with: the checks made before it opens, the saved
 //! settings, the command line's overrides, and the first scenario.
 
-use super::settings::{MAX_BODY_COUNT, SandboxSettings};
+use super::settings::SandboxSettings;
 use super::settings_file::{SettingsFile, default_settings_path};
 use super::window_options::{WindowError, WindowOptions};
 use crate::output::{check_extension, check_new};
@@ -34,9 +34,6 @@ impl Start {
     /// [`settings_file`](super::settings_file)). Warnings about the file are
     /// printed here, once, and shown in the HUD.
     pub fn read(options: &WindowOptions) -> Result<Self, WindowError> {
-        if let Some(n) = options.bodies.filter(|&n| n > MAX_BODY_COUNT) {
-            return Err(WindowError::TooManyBodies(n));
-        }
         let path = options.settings.clone().unwrap_or_else(default_settings_path);
         let (mut file, mut settings) = SettingsFile::open(path);
         if let Some(warning) = &file.warning {

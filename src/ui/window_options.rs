@@ -2,7 +2,6 @@
 
 use std::path::PathBuf;
 
-use super::settings::MAX_BODY_COUNT;
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionError, ExecutionMode, SplitPolicy};
 use crate::input::InputError;
@@ -22,7 +21,8 @@ pub struct WindowOptions {
     pub settings: Option<PathBuf>,
     /// Drawing method for this run (not saved).
     pub render: Option<DrawMethod>,
-    /// Generated bodies for this run (not saved).
+    /// Generated bodies for this run (not saved; the command line bounds
+    /// it: `crate::input::run_bodies_arg`).
     pub bodies: Option<u64>,
     /// Start with the simulation paused (to measure rendering alone).
     pub paused: bool,
@@ -51,9 +51,6 @@ pub enum WindowError {
          under `xvfb-run kessler run`, or use `kessler headless`"
     )]
     NoDisplay,
-    /// `--bodies` asks for more than the sandbox offers.
-    #[error("--bodies: {0} is more than the sandbox's {MAX_BODY_COUNT}")]
-    TooManyBodies(u64),
     /// The scenario named on the command line is unusable.
     #[error(transparent)]
     Scenario(#[from] InputError),
