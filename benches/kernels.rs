@@ -7,9 +7,11 @@ use bevy::prelude::*;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use kessler::components::{BodyId, BodyState, GravityRole, Position, Velocity};
 use kessler::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
+use kessler::resources::GravityMethod;
 use kessler::rng::Rng;
 use kessler::systems::{
-    Aabb, ContactBody, GravitySource, Pull, SortedBoxes, fragments, gravity_kernel, respond, sweep_and_prune,
+    Aabb, ContactBody, GravitySource, Pull, PullScratch, SortedBoxes, fragments, gravity_kernel, prepare_pull, respond,
+    sweep_and_prune,
 };
 
 const COUNTS: [usize; 3] = [1_000, 10_000, 100_000];
@@ -62,6 +64,35 @@ fn gravity(c: &mut Criterion) {
                 })
             });
         }
+    }
+    group.finish();
+}
+
+/// Every body a source: the tree's pull (build and every source's
+/// acceleration, θ = 0.5) over a uniform cloud of 10 000 sources in a cube
+/// of edge 1000, as `benches/self_gravity.ron`.
+fn gravity_tree(c: &mut Criterion) {
+    let mut group = c.benchmark_group("kernel_gravity_tree");
+    let count = 10_000;
+    let mut rng = Rng::new(3);
+    let sources: Vec<GravitySource> = (0..count)
+        .map(|i| GravitySource {
+            id: BodyId(i as u64),
+            position: DVec3::new(rng.symmetric(500.0), rng.symmetric(500.0), rng.symmetric(500.0))
+                .as_vec3()
+                .as_dvec3(),
+            gm: 6.674,
+        })
+        .collect();
+    let method = GravityMethod::Tree { theta: 0.5 };
+    for mode in MODES {
+        let exec = execution(mode);
+        let mut scratch = PullScratch::default();
+        group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
+            b.iter(|| {
+                prepare_pull(method, &sources, count, 1.0, &exec, &mut scratch);
+            })
+        });
     }
     group.finish();
 }
@@ -162,5 +193,5 @@ fn dispatch(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, gravity, sweep, response, shatter, dispatch);
+criterion_group!(benches, gravity, gravity_tree, sweep, response, shatter, dispatch);
 criterion_main!(benches);

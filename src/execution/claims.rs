@@ -19,6 +19,10 @@ use super::Split;
 /// chunks that take unequal time.
 pub const CHUNKS_PER_THREAD: usize = 4;
 
+/// Chunks per worker thread of a step whose items cost unevenly and much
+/// each ([`StageExecution::map_uneven_chunks`](super::StageExecution::map_uneven_chunks)).
+pub const UNEVEN_CHUNKS_PER_THREAD: usize = 32;
+
 /// Spins of a thread waiting for other threads' chunks before it starts
 /// yielding its core (each spin is a few nanoseconds).
 const SPINS_BEFORE_YIELD: u32 = 100_000;

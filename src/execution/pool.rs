@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy::prelude::*;
 
-use super::claims::{CHUNKS_PER_THREAD, Claims};
+use super::claims::{CHUNKS_PER_THREAD, Claims, UNEVEN_CHUNKS_PER_THREAD};
 use super::keep_warm::KeepWarm;
 use super::{AutoSplit, ExecutionMode, Split, SplitPolicy};
 
@@ -194,9 +194,9 @@ impl Execution {
     }
 
     /// Runs `kernel` on contiguous chunks of `data` on the pool's threads
-    /// (about [`CHUNKS_PER_THREAD`] per thread, one item each when fine
+    /// (about `chunks_per_thread` per thread, one item each when fine
     /// grained) and returns their results in input order.
-    fn map_split<S, R, K>(&self, data: S, kernel: K) -> Vec<R>
+    fn map_split<S, R, K>(&self, data: S, chunks_per_thread: usize, kernel: K) -> Vec<R>
     where
         S: Split,
         R: Send,
@@ -210,7 +210,7 @@ impl Execution {
         let chunk = if self.fine_grained {
             1
         } else {
-            len.div_ceil(self.threads() * CHUNKS_PER_THREAD)
+            len.div_ceil(self.threads() * chunks_per_thread)
         };
         let claims = Claims::new(data, chunk, self.threads());
         self.pool.install(|| claims.run(&kernel));
@@ -255,7 +255,24 @@ impl StageExecution<'_> {
         K: Fn(S) -> R + Sync,
     {
         if self.split {
-            self.execution.map_split(data, kernel)
+            self.execution.map_split(data, CHUNKS_PER_THREAD, kernel)
+        } else {
+            vec![kernel(data)]
+        }
+    }
+
+    /// Like [`map_chunks`](Self::map_chunks), in [`UNEVEN_CHUNKS_PER_THREAD`]
+    /// smaller chunks per thread: for items that cost unevenly and much
+    /// each (the gravity tree's groups), so that no thread waits long for
+    /// the last chunk.
+    pub fn map_uneven_chunks<S, R, K>(&self, data: S, kernel: K) -> Vec<R>
+    where
+        S: Split,
+        R: Send,
+        K: Fn(S) -> R + Sync,
+    {
+        if self.split {
+            self.execution.map_split(data, UNEVEN_CHUNKS_PER_THREAD, kernel)
         } else {
             vec![kernel(data)]
         }

@@ -171,7 +171,7 @@ fn tree_pull<'a>(
     let PullScratch { tree, accelerations } = scratch;
     tree.rebuild_split(sources, stage);
     let tree = &*tree;
-    let by_group = stage.map_chunks(0..tree.group_count(), |groups| {
+    let by_group = stage.map_uneven_chunks(0..tree.group_count(), |groups| {
         tree.group_accelerations(groups, theta, softening2)
     });
     accelerations.clear();

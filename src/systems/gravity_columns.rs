@@ -1,207 +1,327 @@
 //! The sums of the tree's group walk (docs/design.md, "Gravity"), over
 //! columns: a group gathers the sources it sums one by one and the nodes it
-//! takes whole into plain `f64` columns once, and each of its bodies then
-//! runs down them in [`LANES`] independent partial sums, which the compiler
-//! keeps in SIMD registers. The lanes are added in one fixed order at the
-//! end, so a body's sum does not depend on anything but its group's lists.
+//! takes whole into [`GroupLists`] once, and each of its bodies then runs
+//! down them in [`LANES`] independent partial sums, the slots of a SIMD
+//! register. The lanes are added in one fixed order at the end, so a
+//! body's sum depends on its group's lists alone.
+//!
+//! The lists hold `f32` positions relative to the group's center, so no
+//! precision is lost to the distance from the origin, and the terms are
+//! `f32` ([`near_term`], [`far_term`]): right to about 10⁻⁷, the precision
+//! of the `f32` positions and of the result, while `f32`'s division and
+//! square root cost a fraction of `f64`'s and a register holds twice the
+//! lanes. Each lane's `f32` partial sum is carried over into `f64` every
+//! [`BLOCK`] terms. Where the processor has AVX the kernel is
+//! `gravity_avx`'s; elsewhere it runs here, lane by lane: the same
+//! operations in the same order, so the same bits.
 
-use bevy::math::DVec3;
+use bevy::math::{DVec3, Vec3};
 
-use super::gravity::{GravitySource, pull_factor};
+use super::gravity::GravitySource;
 
-/// Partial sums per component.
-pub const LANES: usize = 4;
+/// Partial sums per component: the `f32` slots of a 256-bit register.
+pub const LANES: usize = 8;
 
-/// `(x + y) + (z + w)` of the four lanes of each component.
+/// Terms per lane summed in `f32` before the lane's partial sum is carried
+/// over into `f64`.
+pub const BLOCK: usize = 16;
+
+/// Padding: a massless entry this far away adds exactly nothing (an
+/// infinite squared distance in `f32`, a finite distance from any position
+/// a body may have, ±10³⁰, so no NaN).
+const FAR_AWAY: f32 = f32::MAX / 4.0;
+
+/// The pull of a source `G·m` = `gm` at `d` from the body (`ε²` =
+/// `softening2`): `G·m·d/(|d|² + ε²)^{3/2}`, or nothing at distance 0 (the
+/// body itself).
+#[inline(always)]
+pub fn near_term(gm: f32, d: [f32; 3], softening2: f32) -> [f32; 3] {
+    let [dx, dy, dz] = d;
+    let r2 = dx * dx + dy * dy + dz * dz;
+    let inv2 = 1.0 / (r2 + softening2);
+    let f = gm * (inv2 * inv2.sqrt());
+    let f = if r2 > 0.0 { f } else { 0.0 };
+    [dx * f, dy * f, dz * f]
+}
+
+/// The pull of a node, a point mass `gm` with quadrupole `gm·q` (`q` =
+/// xx, yy, zz, xy, xz, yz, per unit of `G·m`), on a body at `r` from its
+/// center of mass (`r² = |r|² + ε²`, `ε²` = `softening2`): `−gm·r/r³ +
+/// gm·q·r/r⁵ − (5/2)·gm·(rᵀqr)·r/r⁷`. It is computed as `gm/r² · ((q·n)/r²
+/// − (1 + (5/2)·(nᵀqn)/r²)·n)` with `n = r/r`, so that every intermediate
+/// is a ratio of lengths or `gm/r²`: nothing overflows, and nothing falls
+/// into `f32`'s subnormal range, where arithmetic is many times slower.
+#[inline(always)]
+pub fn far_term(gm: f32, q: [f32; 6], r: [f32; 3], softening2: f32) -> [f32; 3] {
+    let [xx, yy, zz, xy, xz, yz] = q;
+    let [rx, ry, rz] = r;
+    let inv2 = 1.0 / (rx * rx + ry * ry + rz * rz + softening2);
+    let inv1 = inv2.sqrt();
+    let [nx, ny, nz] = [rx * inv1, ry * inv1, rz * inv1];
+    let qx = xx * nx + xy * ny + xz * nz;
+    let qy = xy * nx + yy * ny + yz * nz;
+    let qz = xz * nx + yz * ny + zz * nz;
+    let radial = 1.0 + 2.5 * (nx * qx + ny * qy + nz * qz) * inv2;
+    let scale = gm * inv2;
+    [
+        scale * (qx * inv2 - nx * radial),
+        scale * (qy * inv2 - ny * radial),
+        scale * (qz * inv2 - nz * radial),
+    ]
+}
+
+/// What a group of bodies sums, as columns relative to the group's
+/// center, each padded with massless entries to a multiple of [`LANES`]:
+/// the sources it sums one by one (position, `G·m`) and the nodes it takes
+/// whole (center of mass, `G·m`, quadrupole).
+#[derive(Clone, Debug, Default)]
+pub struct GroupLists {
+    pub(super) center: DVec3,
+    pub(super) near: [Vec<f32>; 4],
+    pub(super) far: [Vec<f32>; 10],
+}
+
+impl GroupLists {
+    /// Empties the lists, keeping their memory; positions are taken
+    /// relative to `center` from now on.
+    pub fn clear(&mut self, center: DVec3) {
+        self.center = center;
+        self.near.iter_mut().chain(&mut self.far).for_each(Vec::clear);
+    }
+
+    /// Where `p` is from the center, in `f32`.
+    #[inline]
+    pub(super) fn relative(&self, p: DVec3) -> [f32; 3] {
+        (p - self.center).as_vec3().to_array()
+    }
+
+    /// Appends sources to sum one by one.
+    pub fn push_near(&mut self, sources: &[GravitySource]) {
+        let c = self.center;
+        let [x, y, z, gm] = &mut self.near;
+        x.extend(sources.iter().map(|s| (s.position.x - c.x) as f32));
+        y.extend(sources.iter().map(|s| (s.position.y - c.y) as f32));
+        z.extend(sources.iter().map(|s| (s.position.z - c.z) as f32));
+        gm.extend(sources.iter().map(|s| s.gm as f32));
+    }
+
+    /// Appends a node to take whole.
+    pub fn push_far(&mut self, com: DVec3, gm: f64, quad: [f64; 6]) {
+        // `quad` per unit of `G·m` (see [`far_term`]).
+        let [x, y, z] = self.relative(com);
+        let values = [x, y, z, gm as f32].into_iter().chain(quad.map(|q| q as f32));
+        for (column, v) in self.far.iter_mut().zip(values) {
+            column.push(v);
+        }
+    }
+
+    /// Pads both lists to a multiple of [`LANES`].
+    pub fn pad(&mut self) {
+        for (columns, positions) in [(&mut self.near[..], 3), (&mut self.far[..], 3)] {
+            while !columns[0].len().is_multiple_of(LANES) {
+                for (k, column) in columns.iter_mut().enumerate() {
+                    column.push(if k < positions { FAR_AWAY } else { 0.0 });
+                }
+            }
+        }
+    }
+
+    /// The number of whole lanes in the near and far lists.
+    pub(super) fn chunks(&self) -> (usize, usize) {
+        (self.near[3].len() / LANES, self.far[3].len() / LANES)
+    }
+}
+
+/// Per-lane partial sums, `f32` within a block, carried over into `f64`.
+struct LaneSums {
+    sums: [[f64; LANES]; 3],
+    block: [[f32; LANES]; 3],
+}
+
+impl LaneSums {
+    fn new() -> Self {
+        Self {
+            sums: [[0.0; LANES]; 3],
+            block: [[0.0; LANES]; 3],
+        }
+    }
+
+    fn add(&mut self, lane: usize, term: [f32; 3]) {
+        for (block, t) in self.block.iter_mut().zip(term) {
+            block[lane] += t;
+        }
+    }
+
+    /// Carries the block over after the `k`-th of `chunks` chunks when a
+    /// block is full or the list ends.
+    fn carry_after(&mut self, k: usize, chunks: usize) {
+        if (k + 1).is_multiple_of(BLOCK) || k + 1 == chunks {
+            for (sum, block) in self.sums.iter_mut().zip(&mut self.block) {
+                for (s, b) in sum.iter_mut().zip(block.iter_mut()) {
+                    *s += f64::from(*b);
+                    *b = 0.0;
+                }
+            }
+        }
+    }
+}
+
+/// The sum of the lanes of each component, pairwise in a fixed order.
 #[inline]
-fn lanes_total(a: [[f64; LANES]; 3]) -> DVec3 {
-    let total = |l: [f64; LANES]| (l[0] + l[1]) + (l[2] + l[3]);
+pub(super) fn lanes_total(a: [[f64; LANES]; 3]) -> DVec3 {
+    let total = |l: [f64; LANES]| ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]));
     DVec3::new(total(a[0]), total(a[1]), total(a[2]))
 }
 
-/// Sources summed one by one, as columns padded with massless entries to
-/// a multiple of [`LANES`].
-#[derive(Clone, Debug, Default)]
-pub struct NearColumns {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    z: Vec<f64>,
-    gm: Vec<f64>,
+/// The pull of the lists on a body at `p`, lane by lane: the near sum,
+/// then the far sum, added in `f64`.
+fn pull_on(lists: &GroupLists, p: DVec3, softening2: f32) -> DVec3 {
+    let [px, py, pz] = lists.relative(p);
+    let (near_chunks, far_chunks) = lists.chunks();
+    let [x, y, z, gm] = &lists.near;
+    let mut near = LaneSums::new();
+    for k in 0..near_chunks {
+        for l in 0..LANES {
+            let i = k * LANES + l;
+            near.add(l, near_term(gm[i], [x[i] - px, y[i] - py, z[i] - pz], softening2));
+        }
+        near.carry_after(k, near_chunks);
+    }
+    let [x, y, z, gm, q @ ..] = &lists.far;
+    let mut far = LaneSums::new();
+    for k in 0..far_chunks {
+        for l in 0..LANES {
+            let i = k * LANES + l;
+            let quad = [q[0][i], q[1][i], q[2][i], q[3][i], q[4][i], q[5][i]];
+            far.add(l, far_term(gm[i], quad, [px - x[i], py - y[i], pz - z[i]], softening2));
+        }
+        far.carry_after(k, far_chunks);
+    }
+    lanes_total(near.sums) + lanes_total(far.sums)
 }
 
-impl NearColumns {
-    /// Empties the columns, keeping their memory.
-    pub fn clear(&mut self) {
-        for column in [&mut self.x, &mut self.y, &mut self.z, &mut self.gm] {
-            column.clear();
-        }
-    }
-
-    /// Appends `sources`.
-    pub fn extend(&mut self, sources: &[GravitySource]) {
-        for s in sources {
-            self.x.push(s.position.x);
-            self.y.push(s.position.y);
-            self.z.push(s.position.z);
-            self.gm.push(s.gm);
-        }
-    }
-
-    /// Pads the columns to a multiple of [`LANES`] with massless entries
-    /// (they add exactly nothing).
-    pub fn pad(&mut self) {
-        while !self.x.len().is_multiple_of(LANES) {
-            for column in [&mut self.x, &mut self.y, &mut self.z, &mut self.gm] {
-                column.push(0.0);
-            }
-        }
-    }
-
-    /// The pull of every source on a body at `p`: all but those at its very
-    /// position (itself), as [`add_pulls`](super::add_pulls) sums them.
-    pub fn pull_on(&self, p: DVec3, softening2: f64) -> DVec3 {
-        let mut a = [[0.0; LANES]; 3];
-        let columns = self
-            .x
-            .chunks_exact(LANES)
-            .zip(self.y.chunks_exact(LANES))
-            .zip(self.z.chunks_exact(LANES))
-            .zip(self.gm.chunks_exact(LANES));
-        for (((x, y), z), gm) in columns {
-            for l in 0..LANES {
-                let (dx, dy, dz) = (x[l] - p.x, y[l] - p.y, z[l] - p.z);
-                let r2 = dx * dx + dy * dy + dz * dz;
-                let f = pull_factor(r2, gm[l], softening2);
-                let f = if r2 > 0.0 { f } else { 0.0 };
-                a[0][l] += dx * f;
-                a[1][l] += dy * f;
-                a[2][l] += dz * f;
-            }
-        }
-        lanes_total(a)
-    }
-}
-
-/// The pull of a point mass `gm` with quadrupole `q` (xx, yy, zz, xy, xz,
-/// yz) on a body at `r` from its center of mass (`r2 = |r|² + ε²`):
-/// `−gm·r/r³ + Q·r/r⁵ − (5/2)·(rᵀQr)·r/r⁷`.
-#[inline]
-pub fn far_field(gm: f64, q: [f64; 6], r: DVec3, r2: f64) -> DVec3 {
-    let [xx, yy, zz, xy, xz, yz] = q;
-    let qr = DVec3::new(
-        xx * r.x + xy * r.y + xz * r.z,
-        xy * r.x + yy * r.y + yz * r.z,
-        xz * r.x + yz * r.y + zz * r.z,
+/// [`group_pulls`] lane by lane, on any processor.
+fn group_pulls_plain(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
+    out.extend(
+        members
+            .iter()
+            .map(|s| pull_on(lists, s.position, softening2 as f32).as_vec3()),
     );
-    let inv_r2 = 1.0 / r2;
-    let inv_r3 = inv_r2 * inv_r2.sqrt();
-    let inv_r5 = inv_r3 * inv_r2;
-    -r * (gm * inv_r3) + qr * inv_r5 - r * (2.5 * r.dot(qr) * inv_r5 * inv_r2)
 }
 
-/// Nodes taken whole, as columns (center of mass, `G·m`, quadrupole)
-/// padded to a multiple of [`LANES`].
-#[derive(Clone, Debug, Default)]
-pub struct FarColumns {
-    com: [Vec<f64>; 3],
-    gm: Vec<f64>,
-    quad: [Vec<f64>; 6],
-}
-
-impl FarColumns {
-    /// Empties the columns, keeping their memory.
-    pub fn clear(&mut self) {
-        self.com.iter_mut().chain(self.quad.iter_mut()).for_each(Vec::clear);
-        self.gm.clear();
-    }
-
-    /// Appends a node.
-    pub fn push(&mut self, com: DVec3, gm: f64, quad: [f64; 6]) {
-        for (column, v) in self.com.iter_mut().zip(com.to_array()) {
-            column.push(v);
+/// Kernel: the pull of `lists` on each of `members`, appended to `out`
+/// (`ε²` = `softening2`); with AVX where the processor has it, the same
+/// bits either way.
+pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        #[expect(unsafe_code, reason = "the AVX kernel, called where the processor has AVX")]
+        // SAFETY: the processor has AVX, checked just above, the one
+        // requirement of the AVX kernel.
+        unsafe {
+            super::gravity_avx::group_pulls(lists, members, softening2, out);
         }
-        self.gm.push(gm);
-        for (column, v) in self.quad.iter_mut().zip(quad) {
-            column.push(v);
-        }
+        return;
     }
-
-    /// Pads the columns to a multiple of [`LANES`] with massless nodes as
-    /// far away as `f64` goes (they add exactly nothing: no mass, no
-    /// quadrupole, an infinite distance, no NaN).
-    pub fn pad(&mut self) {
-        while !self.gm.len().is_multiple_of(LANES) {
-            self.push(DVec3::splat(f64::MAX), 0.0, [0.0; 6]);
-        }
-    }
-
-    /// The pull of every node on a body at `p`.
-    #[expect(
-        clippy::needless_range_loop,
-        reason = "ten columns are read at one index, and the lane picks the partial sum"
-    )]
-    pub fn pull_on(&self, p: DVec3, softening2: f64) -> DVec3 {
-        let mut a = [[0.0; LANES]; 3];
-        let n = self.gm.len();
-        let [cx, cy, cz] = [&self.com[0][..n], &self.com[1][..n], &self.com[2][..n]];
-        let q: [&[f64]; 6] = std::array::from_fn(|i| &self.quad[i][..n]);
-        for start in (0..n).step_by(LANES) {
-            for l in 0..LANES {
-                let k = start + l;
-                let r = DVec3::new(p.x - cx[k], p.y - cy[k], p.z - cz[k]);
-                let quad = [q[0][k], q[1][k], q[2][k], q[3][k], q[4][k], q[5][k]];
-                let f = far_field(self.gm[k], quad, r, r.length_squared() + softening2);
-                a[0][l] += f.x;
-                a[1][l] += f.y;
-                a[2][l] += f.z;
-            }
-        }
-        lanes_total(a)
-    }
+    group_pulls_plain(lists, members, softening2, out);
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::components::BodyId;
+    use crate::rng::Rng;
     use crate::systems::add_pulls;
 
-    #[test]
-    fn columns_sum_what_the_sources_pull_skipping_the_body_itself() {
-        let sources: Vec<GravitySource> = (0..7)
+    fn sources(count: u64) -> Vec<GravitySource> {
+        (0..count)
             .map(|i| GravitySource {
                 id: BodyId(i),
                 position: DVec3::new(i as f64, (i * i) as f64 * 0.5, -(i as f64)),
                 gm: 1.0 + i as f64,
             })
-            .collect();
-        let mut columns = NearColumns::default();
-        columns.extend(&sources);
-        columns.pad();
-        let at = sources[3].position;
-        let mut expected = DVec3::ZERO;
-        add_pulls(&mut expected, BodyId(3), at, &sources, 0.25);
-        let got = columns.pull_on(at, 0.25);
-        assert!(
-            (got - expected).length() <= 1e-15 * expected.length(),
-            "{got} vs {expected}"
-        );
-        // Softening 0: the body's own entry must add nothing, not NaN.
-        assert!(columns.pull_on(at, 0.0).is_finite());
+            .collect()
     }
 
     #[test]
-    fn padding_adds_nothing_to_the_far_sum() {
-        let mut far = FarColumns::default();
-        far.push(DVec3::new(10.0, 0.0, 0.0), 3.0, [0.1, -0.2, 0.1, 0.0, 0.05, 0.0]);
-        far.pad();
-        let one = far.pull_on(DVec3::ZERO, 1.0);
-        let direct = far_field(
-            3.0,
-            [0.1, -0.2, 0.1, 0.0, 0.05, 0.0],
-            DVec3::new(-10.0, 0.0, 0.0),
-            101.0,
+    fn the_near_list_sums_what_the_sources_pull_skipping_the_body_itself() {
+        let sources = sources(11);
+        let mut lists = GroupLists::default();
+        lists.clear(DVec3::new(2.0, 1.0, -3.0));
+        lists.push_near(&sources);
+        lists.pad();
+        let at = sources[3].position;
+        let mut expected = DVec3::ZERO;
+        add_pulls(&mut expected, BodyId(3), at, &sources, 0.25);
+        let got = pull_on(&lists, at, 0.25);
+        assert!(
+            (got - expected).length() <= 1e-6 * expected.length(),
+            "{got} vs {expected}"
         );
-        assert_eq!(one, direct);
+        // Softening 0: the body's own entry must add nothing, not NaN; nor
+        // may the padding, wherever the body is.
+        assert!(pull_on(&lists, at, 0.0).is_finite());
+        assert!(pull_on(&lists, DVec3::splat(-1e30), 0.0).is_finite());
+    }
+
+    #[test]
+    fn the_far_term_of_a_point_mass_is_newtons_and_padding_adds_nothing() {
+        let r = [3.0, -4.0, 12.0];
+        let got = Vec3::from_array(far_term(2.0, [0.0; 6], r, 0.0));
+        let expected = -Vec3::from_array(r) * 2.0 / 13f32.powi(3);
+        assert!((got - expected).length() <= 1e-6 * expected.length(), "{got}");
+        let q = [0.1, -0.2, 0.1, 0.0, 0.05, 0.0];
+        let mut lists = GroupLists::default();
+        lists.clear(DVec3::ZERO);
+        lists.push_far(DVec3::new(10.0, 0.0, 0.0), 3.0, q);
+        lists.pad();
+        let one = Vec3::from_array(far_term(3.0, q.map(|q| q as f32), [-10.0, 0.0, 0.0], 1.0));
+        assert_eq!(pull_on(&lists, DVec3::ZERO, 1.0), one.as_dvec3());
+        assert!(pull_on(&lists, DVec3::splat(1e30), 0.0).is_finite());
+    }
+
+    /// The kernel as dispatched (AVX where the processor has it) gives the
+    /// same bits as lane by lane: random lists longer than a block, with the
+    /// body itself, sources on top of each other, softening 0 and distances
+    /// beyond `f32`'s range.
+    #[test]
+    fn with_and_without_avx_the_same_bits() {
+        let mut rng = Rng::new(9);
+        for round in 0..24 {
+            let count = 1 + round * 9;
+            let mut all: Vec<GravitySource> = (0..count)
+                .map(|i| GravitySource {
+                    id: BodyId(i as u64),
+                    position: DVec3::new(rng.symmetric(50.0), rng.symmetric(50.0), rng.symmetric(50.0)),
+                    gm: rng.range(0.0, 10.0),
+                })
+                .collect();
+            all[0].position = all[count - 1].position;
+            if round % 4 == 1 {
+                all[0].position.x = 1e25;
+            }
+            let softening2 = if round % 2 == 0 { 0.0 } else { 0.3 };
+            let mut lists = GroupLists::default();
+            lists.clear(DVec3::new(3.0, -20.0, 7.5));
+            lists.push_near(&all);
+            for s in &all {
+                let q = std::array::from_fn(|_| rng.symmetric(s.gm));
+                lists.push_far(s.position * 4.0 + DVec3::splat(300.0), s.gm, q);
+            }
+            lists.pad();
+            let (mut plain, mut dispatched) = (Vec::new(), Vec::new());
+            group_pulls_plain(&lists, &all, softening2, &mut plain);
+            group_pulls(&lists, &all, softening2, &mut dispatched);
+            let bits = |v: &[Vec3]| {
+                v.iter()
+                    .flat_map(|a| a.to_array().map(f32::to_bits))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&plain), bits(&dispatched), "round {round}");
+        }
+        #[cfg(target_arch = "x86_64")]
+        if !std::arch::is_x86_feature_detected!("avx") {
+            eprintln!("this processor has no AVX: the kernel ran lane by lane both times");
+        }
     }
 }

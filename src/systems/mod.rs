@@ -5,6 +5,8 @@ mod broad_phase;
 mod contact;
 mod fault;
 mod gravity;
+#[cfg(target_arch = "x86_64")]
+mod gravity_avx;
 mod gravity_columns;
 mod gravity_tree;
 mod integrate;

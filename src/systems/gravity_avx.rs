@@ -1,0 +1,196 @@
+//! The group walk's kernel (`gravity_columns`) with AVX: each of the
+//! `LANES` lanes in one `f32` slot of a 256-bit register, every operation
+//! the one the plain kernel does in that lane, in the same order (no fused
+//! multiply-add), so both give the same bits; a test in `gravity_columns`
+//! holds them to it. Two bodies go down the lists together: they share
+//! the loads and give the processor independent work between divisions.
+
+use std::arch::x86_64::*;
+
+use bevy::math::{DVec3, Vec3};
+
+use super::gravity::GravitySource;
+use super::gravity_columns::{BLOCK, GroupLists, LANES, lanes_total};
+
+const _: () = assert!(LANES == 8, "one lane an f32 slot of a 256-bit register");
+
+/// The eight values of `a` in one register.
+#[inline]
+#[target_feature(enable = "avx")]
+fn load(a: &[f32; 8]) -> __m256 {
+    _mm256_set_ps(a[7], a[6], a[5], a[4], a[3], a[2], a[1], a[0])
+}
+
+/// The `k`-th eight values of each of `columns`.
+#[inline]
+#[target_feature(enable = "avx")]
+fn load_all<const N: usize>(columns: &[&[[f32; 8]]; N], k: usize) -> [__m256; N] {
+    let mut out = [_mm256_setzero_ps(); N];
+    for (v, column) in out.iter_mut().zip(columns) {
+        *v = load(&column[k]);
+    }
+    out
+}
+
+/// The four slots of `v`.
+#[inline]
+#[target_feature(enable = "avx")]
+fn slots(v: __m256d) -> [f64; 4] {
+    let (low, high) = (_mm256_castpd256_pd128(v), _mm256_extractf128_pd::<1>(v));
+    [
+        _mm_cvtsd_f64(low),
+        _mm_cvtsd_f64(_mm_unpackhi_pd(low, low)),
+        _mm_cvtsd_f64(high),
+        _mm_cvtsd_f64(_mm_unpackhi_pd(high, high)),
+    ]
+}
+
+/// `a·x + b·y + c·z`, summed left to right.
+#[inline]
+#[target_feature(enable = "avx")]
+fn dot(a: [__m256; 3], x: [__m256; 3]) -> __m256 {
+    _mm256_add_ps(
+        _mm256_add_ps(_mm256_mul_ps(a[0], x[0]), _mm256_mul_ps(a[1], x[1])),
+        _mm256_mul_ps(a[2], x[2]),
+    )
+}
+
+/// `gravity_columns::near_term` in each slot.
+#[inline]
+#[target_feature(enable = "avx")]
+fn near_term(gm: __m256, d: [__m256; 3], softening2: __m256) -> [__m256; 3] {
+    let r2 = dot(d, d);
+    let inv2 = _mm256_div_ps(_mm256_set1_ps(1.0), _mm256_add_ps(r2, softening2));
+    let f = _mm256_mul_ps(gm, _mm256_mul_ps(inv2, _mm256_sqrt_ps(inv2)));
+    // Zero where r2 > 0 fails (the body itself), as the plain branch.
+    let f = _mm256_and_ps(f, _mm256_cmp_ps::<_CMP_GT_OQ>(r2, _mm256_setzero_ps()));
+    [_mm256_mul_ps(d[0], f), _mm256_mul_ps(d[1], f), _mm256_mul_ps(d[2], f)]
+}
+
+/// `gravity_columns::far_term` in each slot.
+#[inline]
+#[target_feature(enable = "avx")]
+fn far_term(gm: __m256, q: [__m256; 6], r: [__m256; 3], softening2: __m256) -> [__m256; 3] {
+    let [xx, yy, zz, xy, xz, yz] = q;
+    let inv2 = _mm256_div_ps(_mm256_set1_ps(1.0), _mm256_add_ps(dot(r, r), softening2));
+    let inv1 = _mm256_sqrt_ps(inv2);
+    let n = [
+        _mm256_mul_ps(r[0], inv1),
+        _mm256_mul_ps(r[1], inv1),
+        _mm256_mul_ps(r[2], inv1),
+    ];
+    let qn = [dot([xx, xy, xz], n), dot([xy, yy, yz], n), dot([xz, yz, zz], n)];
+    let radial = _mm256_add_ps(
+        _mm256_set1_ps(1.0),
+        _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(2.5), dot(n, qn)), inv2),
+    );
+    let scale = _mm256_mul_ps(gm, inv2);
+    let component = |c: usize| {
+        _mm256_mul_ps(
+            scale,
+            _mm256_sub_ps(_mm256_mul_ps(qn[c], inv2), _mm256_mul_ps(n[c], radial)),
+        )
+    };
+    [component(0), component(1), component(2)]
+}
+
+/// One body's partial sums: `f32` within a block, carried over into `f64`
+/// (slots 0–3 and 4–7), as the plain kernel's `LaneSums`.
+#[derive(Clone, Copy)]
+struct Sums {
+    sums: [[__m256d; 2]; 3],
+    block: [__m256; 3],
+}
+
+impl Sums {
+    #[inline]
+    #[target_feature(enable = "avx")]
+    fn new() -> Self {
+        Self {
+            sums: [[_mm256_setzero_pd(); 2]; 3],
+            block: [_mm256_setzero_ps(); 3],
+        }
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx")]
+    fn add(&mut self, term: [__m256; 3]) {
+        for (block, t) in self.block.iter_mut().zip(term) {
+            *block = _mm256_add_ps(*block, t);
+        }
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx")]
+    fn carry_after(&mut self, k: usize, chunks: usize) {
+        if (k + 1).is_multiple_of(BLOCK) || k + 1 == chunks {
+            for (sum, block) in self.sums.iter_mut().zip(&mut self.block) {
+                sum[0] = _mm256_add_pd(sum[0], _mm256_cvtps_pd(_mm256_castps256_ps128(*block)));
+                sum[1] = _mm256_add_pd(sum[1], _mm256_cvtps_pd(_mm256_extractf128_ps::<1>(*block)));
+                *block = _mm256_setzero_ps();
+            }
+        }
+    }
+
+    #[inline]
+    #[target_feature(enable = "avx")]
+    fn total(&self) -> DVec3 {
+        lanes_total(self.sums.map(|[low, high]| {
+            let (low, high) = (slots(low), slots(high));
+            [low[0], low[1], low[2], low[3], high[0], high[1], high[2], high[3]]
+        }))
+    }
+}
+
+/// `gravity_columns::pull_on` for each of `B` bodies at `p`.
+#[inline]
+#[target_feature(enable = "avx")]
+fn pulls<const B: usize>(lists: &GroupLists, p: [DVec3; B], softening2: f32) -> [DVec3; B] {
+    let (near_chunks, far_chunks) = lists.chunks();
+    let p = p.map(|p| lists.relative(p).map(|c| _mm256_set1_ps(c)));
+    let softening2 = _mm256_set1_ps(softening2);
+    let near = lists
+        .near
+        .each_ref()
+        .map(|column| &column.as_chunks::<8>().0[..near_chunks]);
+    let mut near_sums = [Sums::new(); B];
+    for k in 0..near_chunks {
+        let [x, y, z, gm] = load_all(&near, k);
+        for (sums, [px, py, pz]) in near_sums.iter_mut().zip(p) {
+            let d = [_mm256_sub_ps(x, px), _mm256_sub_ps(y, py), _mm256_sub_ps(z, pz)];
+            sums.add(near_term(gm, d, softening2));
+        }
+        for sums in &mut near_sums {
+            sums.carry_after(k, near_chunks);
+        }
+    }
+    let far = lists
+        .far
+        .each_ref()
+        .map(|column| &column.as_chunks::<8>().0[..far_chunks]);
+    let mut far_sums = [Sums::new(); B];
+    for k in 0..far_chunks {
+        let [x, y, z, gm, q @ ..] = load_all(&far, k);
+        for (sums, [px, py, pz]) in far_sums.iter_mut().zip(p) {
+            let r = [_mm256_sub_ps(px, x), _mm256_sub_ps(py, y), _mm256_sub_ps(pz, z)];
+            sums.add(far_term(gm, q, r, softening2));
+        }
+        for sums in &mut far_sums {
+            sums.carry_after(k, far_chunks);
+        }
+    }
+    std::array::from_fn(|b| near_sums[b].total() + far_sums[b].total())
+}
+
+/// `gravity_columns::group_pulls` with AVX.
+#[target_feature(enable = "avx")]
+pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
+    let softening2 = softening2 as f32;
+    let mut pairs = members.chunks_exact(2);
+    for pair in &mut pairs {
+        out.extend(pulls(lists, [pair[0].position, pair[1].position], softening2).map(DVec3::as_vec3));
+    }
+    for s in pairs.remainder() {
+        out.extend(pulls(lists, [s.position], softening2).map(DVec3::as_vec3));
+    }
+}
