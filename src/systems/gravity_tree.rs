@@ -27,22 +27,20 @@ pub const LEAF_SIZE: usize = 8;
 /// Deepest level: coincident sources end up in one leaf here.
 const MAX_DEPTH: u32 = 40;
 
-/// One node of the tree.
+/// One node of the tree as the walks read it, in one cache line; what it
+/// pulls with when taken whole is in [`Moments`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
 struct Node {
     /// Center of mass (weighted by `G·m`; the box's center if it is 0).
     com: DVec3,
-    /// Total `G·m`.
-    gm: f64,
-    /// Quadrupole `Σ G·m·(3·x·xᵀ − |x|²·I)` about the center of mass per
-    /// unit of the total `G·m` (0 if that is 0), as xx, yy, zz, xy, xz, yz.
-    quad: [f64; 6],
-    /// The cube around its sources' bounding box: center and half its
-    /// edge `s` (the box's longest).
-    center: DVec3,
-    half: f64,
-    /// How far the center of mass is from that center.
+    /// How far the center of mass is from the cube's center.
     offset: f64,
+    /// The cube around its sources' bounding box: center and half its
+    /// edge `s` (the box's longest), in `f32`, widened so that it holds
+    /// the exact cube.
+    center: Vec3,
+    half: f32,
     /// Index of the first node after this node's subtree.
     skip: u32,
     /// The sources of its subtree, `first..first + len` in leaf order.
@@ -50,6 +48,18 @@ struct Node {
     len: u32,
     /// Whether it is a leaf (its sources are summed one by one).
     leaf: bool,
+}
+
+const _: () = assert!(size_of::<Node>() == 64, "a node is one cache line");
+
+/// What a node pulls with when taken whole.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Moments {
+    /// Total `G·m`.
+    gm: f64,
+    /// Quadrupole `Σ G·m·(3·x·xᵀ − |x|²·I)` about the center of mass per
+    /// unit of the total `G·m` (0 if that is 0), as xx, yy, zz, xy, xz, yz.
+    quad: [f64; 6],
 }
 
 impl Node {
@@ -60,10 +70,10 @@ impl Node {
 
     /// The least distance from the center of mass at which the node may
     /// pull as a whole: `s/θ + δ`, `s` its edge and `δ` its offset
-    /// (`inverse_theta` = `1/θ`). Never for `θ = 0`, nor for a node of one
-    /// point (`0 · ∞` is NaN, and NaN compares false).
+    /// (`inverse_theta` = `1/θ`); infinite for `θ = 0` (the widened edge is
+    /// never 0).
     fn reach(&self, inverse_theta: f64) -> f64 {
-        2.0 * self.half * inverse_theta + self.offset
+        2.0 * f64::from(self.half) * inverse_theta + self.offset
     }
 
     /// Whether the node may pull every point of the box `lo..=hi` as a
@@ -71,8 +81,8 @@ impl Node {
     /// [`reach`](Self::reach) from the center of mass. Every point in the
     /// box then meets the single-point test too.
     fn accepts(&self, lo: DVec3, hi: DVec3, inverse_theta: f64) -> bool {
-        let apart = (lo - self.center).cmpgt(DVec3::splat(self.half)).any()
-            || (self.center - hi).cmpgt(DVec3::splat(self.half)).any();
+        let (center, half) = (self.center.as_dvec3(), DVec3::splat(f64::from(self.half)));
+        let apart = (lo - center).cmpgt(half).any() || (center - hi).cmpgt(half).any();
         let nearest = self.com.clamp(lo, hi);
         let reach = self.reach(inverse_theta);
         apart && reach * reach < (self.com - nearest).length_squared()
@@ -86,7 +96,7 @@ pub const GROUP_SIZE: u32 = 32;
 /// An octree over gravity sources.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Octree {
-    nodes: Vec<Node>,
+    tree: Nodes,
     /// The sources in leaf order.
     sources: Vec<GravitySource>,
     /// For each source in leaf order, its index in the order given.
@@ -114,11 +124,11 @@ type Item = (GravitySource, u32);
 
 /// A subtree built on its own: its nodes (indices from 0) and its sources
 /// in leaf order.
-type Piece = (Vec<Node>, Vec<Item>);
+type Piece = (Nodes, Vec<Item>);
 
 /// The node of `items` (the sources `first..` in leaf order): mass, center
 /// of mass, quadrupole; `skip` is set once its subtree is built.
-fn node_of(items: &[Item], first: usize, depth: u32) -> Node {
+fn node_of(items: &[Item], first: usize, depth: u32) -> (Node, Moments) {
     let (lo, hi) = items.iter().fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), (s, _)| (lo.min(s.position), hi.max(s.position)),
@@ -155,18 +165,19 @@ fn node_of(items: &[Item], first: usize, depth: u32) -> Node {
     let largest = quad.iter().fold(0.0, |m: f64, q| m.max(q.abs()));
     let floor = (largest * f64::from(f32::EPSILON)).max(f64::from(f32::MIN_POSITIVE));
     quad.iter_mut().filter(|q| q.abs() < floor).for_each(|q| *q = 0.0);
-    Node {
+    let near = center.as_vec3();
+    let widened = half + (center - near.as_dvec3()).abs().max_element();
+    let node = Node {
         com,
-        gm,
-        quad,
-        center,
-        half,
         offset: com.distance(center),
+        center: near,
+        half: (widened as f32).next_up(),
         skip: 0,
         first: first as u32,
         len: items.len() as u32,
         leaf: items.len() <= LEAF_SIZE || depth >= MAX_DEPTH,
-    }
+    };
+    (node, Moments { gm, quad })
 }
 
 /// Sorts the items of a node centered at `center` into its octants
@@ -187,18 +198,47 @@ fn octants(items: &mut [Item], center: DVec3, half: f64) -> Vec<(std::ops::Range
     out
 }
 
+/// Nodes and their moments, depth first.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Nodes {
+    nodes: Vec<Node>,
+    moments: Vec<Moments>,
+}
+
+impl Nodes {
+    fn clear(&mut self) {
+        self.nodes.clear();
+        self.moments.clear();
+    }
+
+    fn push(&mut self, (node, moments): (Node, Moments)) {
+        self.nodes.push(node);
+        self.moments.push(moments);
+    }
+
+    /// Appends `other`'s nodes, their indices shifted past these.
+    fn append(&mut self, other: Nodes) {
+        let offset = self.nodes.len() as u32;
+        self.nodes.extend(other.nodes.into_iter().map(|n| Node {
+            skip: n.skip + offset,
+            ..n
+        }));
+        self.moments.extend(other.moments);
+    }
+}
+
 /// Kernel: builds the subtree of `items` (the sources `first..` in leaf
-/// order) depth first into `nodes`, whose indices start at `nodes.len()`.
-fn build(nodes: &mut Vec<Node>, items: &mut [Item], first: usize, center: DVec3, half: f64, depth: u32) {
-    let index = nodes.len();
+/// order) depth first into `nodes`, whose indices start at its length.
+fn build(nodes: &mut Nodes, items: &mut [Item], first: usize, center: DVec3, half: f64, depth: u32) {
+    let index = nodes.nodes.len();
     nodes.push(node_of(items, first, depth));
-    if !nodes[index].leaf {
+    if !nodes.nodes[index].leaf {
         for (range, child) in octants(items, center, half) {
             let start = range.start;
             build(nodes, &mut items[range], first + start, child, half * 0.5, depth + 1);
         }
     }
-    nodes[index].skip = nodes.len() as u32;
+    nodes.nodes[index].skip = nodes.nodes.len() as u32;
 }
 
 impl Octree {
@@ -232,7 +272,7 @@ impl Octree {
         sources: &[GravitySource],
         pieces: impl FnOnce(&(dyn Fn(usize) -> Piece + Sync), usize) -> Vec<Piece>,
     ) {
-        self.nodes.clear();
+        self.tree.clear();
         self.groups.clear();
         self.sources.clear();
         self.given.clear();
@@ -243,23 +283,19 @@ impl Octree {
         let center = (lo + hi) * 0.5;
         let half = ((hi - lo).max_element() * 0.5).max(f64::MIN_POSITIVE);
         let mut items: Vec<Item> = sources.iter().copied().zip(0..).collect();
-        self.nodes.push(node_of(&items, 0, 0));
-        if !self.nodes[0].leaf {
+        self.tree.push(node_of(&items, 0, 0));
+        if !self.tree.nodes[0].leaf {
             let children = octants(&mut items, center, half);
             let items = &items;
             let piece = |k: usize| -> Piece {
                 let (range, child) = &children[k];
                 let mut mine = items[range.clone()].to_vec();
-                let mut nodes = Vec::new();
+                let mut nodes = Nodes::default();
                 build(&mut nodes, &mut mine, range.start, *child, half * 0.5, 1);
                 (nodes, mine)
             };
             for (nodes, mine) in pieces(&piece, children.len()) {
-                let offset = self.nodes.len() as u32;
-                self.nodes.extend(nodes.into_iter().map(|n| Node {
-                    skip: n.skip + offset,
-                    ..n
-                }));
+                self.tree.append(nodes);
                 self.sources.extend(mine.iter().map(|(s, _)| *s));
                 self.given.extend(mine.iter().map(|(_, k)| *k));
             }
@@ -267,7 +303,7 @@ impl Octree {
             self.sources.extend(items.iter().map(|(s, _)| *s));
             self.given.extend(items.iter().map(|(_, k)| *k));
         }
-        self.nodes[0].skip = self.nodes.len() as u32;
+        self.tree.nodes[0].skip = self.tree.nodes.len() as u32;
         let mut groups = std::mem::take(&mut self.groups);
         self.collect_groups(0, &mut groups);
         self.groups = groups;
@@ -281,7 +317,7 @@ impl Octree {
     /// children taken together up to [`GROUP_SIZE`] (siblings, so close to
     /// each other), and the groups of its big ones.
     fn collect_groups(&self, index: usize, groups: &mut Vec<std::ops::Range<u32>>) {
-        let node = &self.nodes[index];
+        let node = &self.tree.nodes[index];
         let whole = |n: &Node| n.first..n.first + n.len;
         if node.len <= GROUP_SIZE || node.leaf {
             groups.push(whole(node));
@@ -290,7 +326,7 @@ impl Octree {
         let mut run: Option<std::ops::Range<u32>> = None;
         let mut child = index + 1;
         while child < node.skip as usize {
-            let c = &self.nodes[child];
+            let c = &self.tree.nodes[child];
             if c.len <= GROUP_SIZE {
                 run = match run {
                     Some(r) if r.len() + c.len as usize <= GROUP_SIZE as usize => Some(r.start..c.first + c.len),
@@ -310,12 +346,12 @@ impl Octree {
 
     /// Number of nodes.
     pub fn len(&self) -> usize {
-        self.nodes.len()
+        self.tree.nodes.len()
     }
 
     /// True when there are no sources.
     pub fn is_empty(&self) -> bool {
-        self.nodes.is_empty()
+        self.tree.nodes.is_empty()
     }
 
     /// Kernel: the acceleration of the body `id` at `position`, with the
@@ -325,15 +361,16 @@ impl Octree {
         let inverse_theta = theta.recip();
         let mut a = DVec3::ZERO;
         let mut i = 0;
-        while i < self.nodes.len() {
-            let node = &self.nodes[i];
+        while i < self.tree.nodes.len() {
+            let node = &self.tree.nodes[i];
             if node.leaf {
                 add_pulls(&mut a, id, p, &self.sources[node.range()], softening2);
                 i = node.skip as usize;
             } else if node.accepts(p, p, inverse_theta) {
+                let Moments { gm, quad } = self.tree.moments[i];
                 let term = far_term(
-                    node.gm as f32,
-                    node.quad.map(|q| q as f32),
+                    gm as f32,
+                    quad.map(|q| q as f32),
                     (p - node.com).as_vec3().to_array(),
                     softening2 as f32,
                 );
@@ -380,8 +417,8 @@ impl Octree {
         // to each other: they are copied as one run.
         let mut run = 0..0;
         let mut i = 0;
-        while i < self.nodes.len() {
-            let node = &self.nodes[i];
+        while i < self.tree.nodes.len() {
+            let node = &self.tree.nodes[i];
             if node.leaf {
                 let range = node.range();
                 if range.start == run.end {
@@ -392,7 +429,8 @@ impl Octree {
                 }
                 i = node.skip as usize;
             } else if node.accepts(lo, hi, inverse_theta) {
-                lists.push_far(node.com, node.gm, node.quad);
+                let Moments { gm, quad } = self.tree.moments[i];
+                lists.push_far(node.com, gm, quad);
                 i = node.skip as usize;
             } else {
                 i += 1;
