@@ -82,6 +82,16 @@ pub struct GroupLists {
 }
 
 impl GroupLists {
+    /// Empty lists with room for `near` sources and `far` nodes, so that
+    /// a chunk of groups does not grow them step by step.
+    pub fn with_capacity(near: usize, far: usize) -> Self {
+        Self {
+            center: DVec3::ZERO,
+            near: std::array::from_fn(|_| Vec::with_capacity(near)),
+            far: std::array::from_fn(|_| Vec::with_capacity(far)),
+        }
+    }
+
     /// Empties the lists, keeping their memory; positions are taken
     /// relative to `center` from now on.
     pub fn clear(&mut self, center: DVec3) {

@@ -89,6 +89,11 @@ impl Node {
     }
 }
 
+/// Room a group walk's near list starts with (a uniform cloud's groups
+/// sum about 1 500 sources one by one, a shattered cluster's up to a few
+/// thousand); its far list gets a quarter.
+const LIST_CAPACITY: usize = 4096;
+
 /// Most sources in a group: the bodies that walk the tree together
 /// ([`Octree::group_accelerations`]).
 pub const GROUP_SIZE: u32 = 32;
@@ -398,9 +403,10 @@ impl Octree {
     /// depend on how the groups are split among threads.
     pub fn group_accelerations(&self, groups: std::ops::Range<usize>, theta: f64, softening2: f64) -> Vec<Vec3> {
         let inverse_theta = theta.recip();
-        let mut lists = GroupLists::default();
-        let mut out = Vec::new();
-        for group in &self.groups[groups] {
+        let groups = &self.groups[groups];
+        let mut lists = GroupLists::with_capacity(LIST_CAPACITY, LIST_CAPACITY / 4);
+        let mut out = Vec::with_capacity(groups.iter().map(|g| g.len()).sum());
+        for group in groups {
             let members = &self.sources[group.start as usize..group.end as usize];
             let (lo, hi) = bounds(members);
             lists.clear((lo + hi) * 0.5);
@@ -590,6 +596,74 @@ mod tests {
         let errors = relative_errors(&cluster(1000, 2), 0.0);
         let worst = errors[errors.len() - 1];
         assert!(worst <= 1e-6, "worst relative error {worst}");
+    }
+
+    #[test]
+    fn groups_hold_every_source_once_in_leaf_order_at_most_32_each() {
+        for (count, seed) in [(5000, 4), (300, 5), (33, 6)] {
+            let mut tree = Octree::default();
+            tree.rebuild(&cluster(count, seed));
+            let mut next = 0;
+            for group in &tree.groups {
+                assert_eq!(group.start, next, "groups follow each other in leaf order");
+                assert!((1..=GROUP_SIZE as usize).contains(&group.len()), "{group:?}");
+                next = group.end;
+            }
+            assert_eq!(next as usize, count);
+        }
+        // Sibling nodes are taken together: a uniform cloud walks in fewer
+        // groups than it has highest nodes of at most 32 sources.
+        let mut rng = Rng::new(7);
+        let uniform: Vec<GravitySource> = (0..20_000)
+            .map(|i| GravitySource {
+                id: BodyId(i),
+                position: DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0)),
+                gm: 1.0,
+            })
+            .collect();
+        let mut tree = Octree::default();
+        tree.rebuild(&uniform);
+        let mut nodes = 0;
+        let mut i = 0;
+        while i < tree.tree.nodes.len() {
+            let node = &tree.tree.nodes[i];
+            if node.len <= GROUP_SIZE || node.leaf {
+                nodes += 1;
+                i = node.skip as usize;
+            } else {
+                i += 1;
+            }
+        }
+        assert!(
+            tree.group_count() * 10 < nodes * 9,
+            "{} groups for {nodes} nodes",
+            tree.group_count()
+        );
+    }
+
+    /// A quadrupole component that is only rounding noise (two sources on
+    /// the x axis but for one `f32` step in y) is 0, not an `f32`
+    /// subnormal that slows the far sums.
+    #[test]
+    fn rounding_noise_in_the_quadrupole_is_zero() {
+        let y = 1.0f32;
+        let sources = [
+            GravitySource {
+                id: BodyId(0),
+                position: DVec3::new(-3.0, f64::from(y), 0.0),
+                gm: 1.0,
+            },
+            GravitySource {
+                id: BodyId(1),
+                position: DVec3::new(3.0, f64::from(y.next_up()), 0.0),
+                gm: 1.0,
+            },
+        ];
+        let items: Vec<Item> = sources.iter().copied().zip(0..).collect();
+        let (_, moments) = node_of(&items, 0, 0);
+        let [xx, yy, zz, xy, xz, yz] = moments.quad;
+        assert_eq!((xy, xz, yz), (0.0, 0.0, 0.0), "{:?}", moments.quad);
+        assert!((xx - 18.0).abs() < 1e-9 && (yy + 9.0).abs() < 1e-9 && (zz + 9.0).abs() < 1e-9);
     }
 
     #[test]
