@@ -94,52 +94,68 @@ fn far_term(gm: __m256, q: [__m256; 6], r: [__m256; 3], softening2: __m256) -> [
     [component(0), component(1), component(2)]
 }
 
-/// One body's partial sums: `f32` within a block, carried over into `f64`
-/// (slots 0–3 and 4–7), as the plain kernel's `LaneSums`.
+/// One body's partial sums in `f64` (slots 0–3 and 4–7), into which each
+/// block's `f32` sums are carried, as the plain kernel's `LaneSums`.
 #[derive(Clone, Copy)]
-struct Sums {
-    sums: [[__m256d; 2]; 3],
-    block: [__m256; 3],
-}
+struct Sums([[__m256d; 2]; 3]);
 
 impl Sums {
     #[inline]
     #[target_feature(enable = "avx")]
     fn new() -> Self {
-        Self {
-            sums: [[_mm256_setzero_pd(); 2]; 3],
-            block: [_mm256_setzero_ps(); 3],
-        }
+        Self([[_mm256_setzero_pd(); 2]; 3])
     }
 
     #[inline]
     #[target_feature(enable = "avx")]
-    fn add(&mut self, term: [__m256; 3]) {
-        for (block, t) in self.block.iter_mut().zip(term) {
-            *block = _mm256_add_ps(*block, t);
-        }
-    }
-
-    #[inline]
-    #[target_feature(enable = "avx")]
-    fn carry_after(&mut self, k: usize, chunks: usize) {
-        if (k + 1).is_multiple_of(BLOCK) || k + 1 == chunks {
-            for (sum, block) in self.sums.iter_mut().zip(&mut self.block) {
-                sum[0] = _mm256_add_pd(sum[0], _mm256_cvtps_pd(_mm256_castps256_ps128(*block)));
-                sum[1] = _mm256_add_pd(sum[1], _mm256_cvtps_pd(_mm256_extractf128_ps::<1>(*block)));
-                *block = _mm256_setzero_ps();
-            }
+    fn carry(&mut self, block: [__m256; 3]) {
+        for (sum, block) in self.0.iter_mut().zip(block) {
+            sum[0] = _mm256_add_pd(sum[0], _mm256_cvtps_pd(_mm256_castps256_ps128(block)));
+            sum[1] = _mm256_add_pd(sum[1], _mm256_cvtps_pd(_mm256_extractf128_ps::<1>(block)));
         }
     }
 
     #[inline]
     #[target_feature(enable = "avx")]
     fn total(&self) -> DVec3 {
-        lanes_total(self.sums.map(|[low, high]| {
+        lanes_total(self.0.map(|[low, high]| {
             let (low, high) = (slots(low), slots(high));
             [low[0], low[1], low[2], low[3], high[0], high[1], high[2], high[3]]
         }))
     }
+}
+
+/// The sums of `term` over the `chunks` chunks of `columns` for each of
+/// `B` bodies at `p`: blocks of [`BLOCK`] chunks summed in registers in
+/// `f32`, each block then carried into the `f64` sums.
+#[inline]
+#[target_feature(enable = "avx")]
+fn block_sums<const B: usize, const N: usize>(
+    columns: &[&[[f32; 8]]; N],
+    chunks: usize,
+    p: [[__m256; 3]; B],
+    term: impl Fn([__m256; N], [__m256; 3]) -> [__m256; 3],
+) -> [Sums; B] {
+    let mut sums = [Sums::new(); B];
+    let mut start = 0;
+    while start < chunks {
+        let end = (start + BLOCK).min(chunks);
+        let mut block = [[_mm256_setzero_ps(); 3]; B];
+        for k in start..end {
+            let values = load_all(columns, k);
+            for (block, p) in block.iter_mut().zip(p) {
+                let t = term(values, p);
+                for (b, t) in block.iter_mut().zip(t) {
+                    *b = _mm256_add_ps(*b, t);
+                }
+            }
+        }
+        for (sums, block) in sums.iter_mut().zip(block) {
+            sums.carry(block);
+        }
+        start = end;
+    }
+    sums
 }
 
 /// `gravity_columns::pull_on` for each of `B` bodies at `p`.
@@ -153,32 +169,18 @@ fn pulls<const B: usize>(lists: &GroupLists, p: [DVec3; B], softening2: f32) -> 
         .near
         .each_ref()
         .map(|column| &column.as_chunks::<8>().0[..near_chunks]);
-    let mut near_sums = [Sums::new(); B];
-    for k in 0..near_chunks {
-        let [x, y, z, gm] = load_all(&near, k);
-        for (sums, [px, py, pz]) in near_sums.iter_mut().zip(p) {
-            let d = [_mm256_sub_ps(x, px), _mm256_sub_ps(y, py), _mm256_sub_ps(z, pz)];
-            sums.add(near_term(gm, d, softening2));
-        }
-        for sums in &mut near_sums {
-            sums.carry_after(k, near_chunks);
-        }
-    }
+    let near_sums = block_sums(&near, near_chunks, p, |[x, y, z, gm], [px, py, pz]| {
+        let d = [_mm256_sub_ps(x, px), _mm256_sub_ps(y, py), _mm256_sub_ps(z, pz)];
+        near_term(gm, d, softening2)
+    });
     let far = lists
         .far
         .each_ref()
         .map(|column| &column.as_chunks::<8>().0[..far_chunks]);
-    let mut far_sums = [Sums::new(); B];
-    for k in 0..far_chunks {
-        let [x, y, z, gm, q @ ..] = load_all(&far, k);
-        for (sums, [px, py, pz]) in far_sums.iter_mut().zip(p) {
-            let r = [_mm256_sub_ps(px, x), _mm256_sub_ps(py, y), _mm256_sub_ps(pz, z)];
-            sums.add(far_term(gm, q, r, softening2));
-        }
-        for sums in &mut far_sums {
-            sums.carry_after(k, far_chunks);
-        }
-    }
+    let far_sums = block_sums(&far, far_chunks, p, |[x, y, z, gm, q @ ..], [px, py, pz]| {
+        let r = [_mm256_sub_ps(px, x), _mm256_sub_ps(py, y), _mm256_sub_ps(pz, z)];
+        far_term(gm, q, r, softening2)
+    });
     std::array::from_fn(|b| near_sums[b].total() + far_sums[b].total())
 }
 
