@@ -189,18 +189,31 @@ fn node_of(items: &[Item], first: usize, depth: u32) -> (Node, Moments) {
 /// (stably: within an octant they keep their order) and returns each
 /// non-empty octant's range in `items` and its center.
 fn octants(items: &mut [Item], center: DVec3, half: f64) -> Vec<(std::ops::Range<usize>, DVec3)> {
-    items.sort_by_key(|(s, _)| octant(s.position, center));
-    let mut out = Vec::with_capacity(8);
-    let mut start = 0;
-    for k in 0..8 {
-        let end = start + items[start..].partition_point(|(s, _)| octant(s.position, center) == k);
-        if end > start {
-            let sign = |bit: usize| if k & bit != 0 { 0.5 } else { -0.5 };
-            out.push((start..end, center + DVec3::new(sign(1), sign(2), sign(4)) * half));
-        }
-        start = end;
+    // A counting sort: count each octant, then place every item after the
+    // ones before it, in the order given.
+    let mut counts = [0; 8];
+    for (s, _) in items.iter() {
+        counts[octant(s.position, center)] += 1;
     }
-    out
+    let mut next = [0; 8];
+    for k in 1..8 {
+        next[k] = next[k - 1] + counts[k - 1];
+    }
+    let starts = next;
+    let given = items.to_vec();
+    for item in given {
+        let k = octant(item.0.position, center);
+        items[next[k]] = item;
+        next[k] += 1;
+    }
+    (0..8)
+        .filter(|&k| counts[k] > 0)
+        .map(|k| {
+            let sign = |bit: usize| if k & bit != 0 { 0.5 } else { -0.5 };
+            let range = starts[k]..starts[k] + counts[k];
+            (range, center + DVec3::new(sign(1), sign(2), sign(4)) * half)
+        })
+        .collect()
 }
 
 /// Nodes and their moments, depth first.
