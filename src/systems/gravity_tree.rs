@@ -29,7 +29,7 @@ const MAX_DEPTH: u32 = 40;
 
 /// One node of the tree as the walks read it, in one cache line; what it
 /// pulls with when taken whole is in [`Moments`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C, align(64))]
 struct Node {
     /// Center of mass (weighted by `G·m`; the box's center if it is 0).
@@ -53,7 +53,7 @@ struct Node {
 const _: () = assert!(size_of::<Node>() == 64, "a node is one cache line");
 
 /// What a node pulls with when taken whole.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Moments {
     /// Total `G·m`.
     gm: f64,
@@ -127,40 +127,91 @@ fn bounds(sources: &[GravitySource]) -> (DVec3, DVec3) {
 /// A source with its index in the order the tree was built from.
 type Item = (GravitySource, u32);
 
-/// A subtree built on its own: its nodes (indices from 0) and its sources
-/// in leaf order.
-type Piece = (Nodes, Vec<Item>);
+/// A subtree built on its own: its nodes (indices from 0), its sources in
+/// leaf order and what they add up to.
+type Piece = (Nodes, Vec<Item>, Summary);
 
-/// The node of `items` (the sources `first..` in leaf order): mass, center
-/// of mass, quadrupole; `skip` is set once its subtree is built.
-fn node_of(items: &[Item], first: usize, depth: u32) -> (Node, Moments) {
-    let (lo, hi) = items.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), (s, _)| (lo.min(s.position), hi.max(s.position)),
-    );
-    let (center, half) = ((lo + hi) * 0.5, (hi - lo).max_element() * 0.5);
-    let gm: f64 = items.iter().map(|(s, _)| s.gm).sum();
-    let com = if gm > 0.0 {
-        items.iter().map(|(s, _)| s.position * s.gm).sum::<DVec3>() / gm
-    } else {
-        center
-    };
-    let mut quad = [0.0; 6];
-    for (s, _) in items {
-        let x = s.position - com;
-        let r2 = x.length_squared();
-        let terms = [
-            3.0 * x.x * x.x - r2,
-            3.0 * x.y * x.y - r2,
-            3.0 * x.z * x.z - r2,
-            3.0 * x.x * x.y,
-            3.0 * x.x * x.z,
-            3.0 * x.y * x.z,
-        ];
-        for (q, t) in quad.iter_mut().zip(terms) {
-            *q += s.gm * t;
-        }
+/// What a subtree adds up to: its sources' bounding box, total `G·m`,
+/// center of mass and quadrupole `Σ G·m·(3·x·xᵀ − |x|²·I)` about it.
+#[derive(Clone, Copy, Debug)]
+struct Summary {
+    lo: DVec3,
+    hi: DVec3,
+    gm: f64,
+    com: DVec3,
+    quad: [f64; 6],
+}
+
+/// `Σ gm·(3·d·dᵀ − |d|²·I)` terms of a mass `gm` at `d`, added to `quad`.
+fn add_quadrupole(quad: &mut [f64; 6], gm: f64, d: DVec3) {
+    let r2 = d.length_squared();
+    let terms = [
+        3.0 * d.x * d.x - r2,
+        3.0 * d.y * d.y - r2,
+        3.0 * d.z * d.z - r2,
+        3.0 * d.x * d.y,
+        3.0 * d.x * d.z,
+        3.0 * d.y * d.z,
+    ];
+    for (q, t) in quad.iter_mut().zip(terms) {
+        *q += gm * t;
     }
+}
+
+impl Summary {
+    /// Of a leaf's sources, one by one.
+    fn of(items: &[Item]) -> Self {
+        let (lo, hi) = items.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), (s, _)| (lo.min(s.position), hi.max(s.position)),
+        );
+        let gm: f64 = items.iter().map(|(s, _)| s.gm).sum();
+        let com = if gm > 0.0 {
+            items.iter().map(|(s, _)| s.position * s.gm).sum::<DVec3>() / gm
+        } else {
+            (lo + hi) * 0.5
+        };
+        let mut quad = [0.0; 6];
+        for (s, _) in items {
+            add_quadrupole(&mut quad, s.gm, s.position - com);
+        }
+        Self { lo, hi, gm, com, quad }
+    }
+
+    /// Of a node's children, in order: each child's quadrupole moved to the
+    /// node's center of mass (the parallel-axis theorem), so building is
+    /// linear in the sources.
+    fn combine(parts: &[Summary]) -> Self {
+        let lo = parts.iter().fold(DVec3::splat(f64::INFINITY), |lo, p| lo.min(p.lo));
+        let hi = parts.iter().fold(DVec3::splat(f64::NEG_INFINITY), |hi, p| hi.max(p.hi));
+        let gm: f64 = parts.iter().map(|p| p.gm).sum();
+        let com = if gm > 0.0 {
+            parts.iter().map(|p| p.com * p.gm).sum::<DVec3>() / gm
+        } else {
+            (lo + hi) * 0.5
+        };
+        let mut quad = [0.0; 6];
+        for p in parts {
+            for (q, child) in quad.iter_mut().zip(p.quad) {
+                *q += child;
+            }
+            add_quadrupole(&mut quad, p.gm, p.com - com);
+        }
+        Self { lo, hi, gm, com, quad }
+    }
+}
+
+/// The node of `len` sources `first..` in leaf order at `depth`, as
+/// `summary` adds them up; `skip` is set once its subtree is built.
+fn node_of(summary: &Summary, first: usize, len: usize, depth: u32) -> (Node, Moments) {
+    let Summary {
+        lo,
+        hi,
+        gm,
+        com,
+        mut quad,
+    } = *summary;
+    let (center, half) = ((lo + hi) * 0.5, (hi - lo).max_element() * 0.5);
     // Per unit of G·m, as the far sums take it; components below f32's
     // precision of the largest (or below its normal range) are rounding
     // noise, and as f32 subnormals they would slow the far sums many times
@@ -179,10 +230,15 @@ fn node_of(items: &[Item], first: usize, depth: u32) -> (Node, Moments) {
         half: (widened as f32).next_up(),
         skip: 0,
         first: first as u32,
-        len: items.len() as u32,
-        leaf: items.len() <= LEAF_SIZE || depth >= MAX_DEPTH,
+        len: len as u32,
+        leaf: is_leaf(len, depth),
     };
     (node, Moments { gm, quad })
+}
+
+/// Whether a node of `len` sources at `depth` is a leaf.
+fn is_leaf(len: usize, depth: u32) -> bool {
+    len <= LEAF_SIZE || depth >= MAX_DEPTH
 }
 
 /// Sorts the items of a node centered at `center` into its octants
@@ -246,17 +302,30 @@ impl Nodes {
 }
 
 /// Kernel: builds the subtree of `items` (the sources `first..` in leaf
-/// order) depth first into `nodes`, whose indices start at its length.
-fn build(nodes: &mut Nodes, items: &mut [Item], first: usize, center: DVec3, half: f64, depth: u32) {
+/// order) depth first into `nodes`, whose indices start at its length, and
+/// returns what it adds up to.
+fn build(nodes: &mut Nodes, items: &mut [Item], first: usize, center: DVec3, half: f64, depth: u32) -> Summary {
     let index = nodes.nodes.len();
-    nodes.push(node_of(items, first, depth));
-    if !nodes.nodes[index].leaf {
-        for (range, child) in octants(items, center, half) {
-            let start = range.start;
-            build(nodes, &mut items[range], first + start, child, half * 0.5, depth + 1);
-        }
-    }
-    nodes.nodes[index].skip = nodes.nodes.len() as u32;
+    nodes.push((Node::default(), Moments::default()));
+    let summary = if is_leaf(items.len(), depth) {
+        Summary::of(items)
+    } else {
+        let parts: Vec<Summary> = octants(items, center, half)
+            .into_iter()
+            .map(|(range, child)| {
+                let start = range.start;
+                build(nodes, &mut items[range], first + start, child, half * 0.5, depth + 1)
+            })
+            .collect();
+        Summary::combine(&parts)
+    };
+    let (node, moments) = node_of(&summary, first, items.len(), depth);
+    nodes.nodes[index] = Node {
+        skip: nodes.nodes.len() as u32,
+        ..node
+    };
+    nodes.moments[index] = moments;
+    summary
 }
 
 impl Octree {
@@ -301,27 +370,36 @@ impl Octree {
         let center = (lo + hi) * 0.5;
         let half = ((hi - lo).max_element() * 0.5).max(f64::MIN_POSITIVE);
         let mut items: Vec<Item> = sources.iter().copied().zip(0..).collect();
-        self.tree.push(node_of(&items, 0, 0));
-        if !self.tree.nodes[0].leaf {
+        self.tree.push((Node::default(), Moments::default()));
+        let summary = if is_leaf(items.len(), 0) {
+            self.sources.extend(items.iter().map(|(s, _)| *s));
+            self.given.extend(items.iter().map(|(_, k)| *k));
+            Summary::of(&items)
+        } else {
             let children = octants(&mut items, center, half);
             let items = &items;
             let piece = |k: usize| -> Piece {
                 let (range, child) = &children[k];
                 let mut mine = items[range.clone()].to_vec();
                 let mut nodes = Nodes::default();
-                build(&mut nodes, &mut mine, range.start, *child, half * 0.5, 1);
-                (nodes, mine)
+                let summary = build(&mut nodes, &mut mine, range.start, *child, half * 0.5, 1);
+                (nodes, mine, summary)
             };
-            for (nodes, mine) in pieces(&piece, children.len()) {
+            let mut parts = Vec::with_capacity(children.len());
+            for (nodes, mine, summary) in pieces(&piece, children.len()) {
                 self.tree.append(nodes);
                 self.sources.extend(mine.iter().map(|(s, _)| *s));
                 self.given.extend(mine.iter().map(|(_, k)| *k));
+                parts.push(summary);
             }
-        } else {
-            self.sources.extend(items.iter().map(|(s, _)| *s));
-            self.given.extend(items.iter().map(|(_, k)| *k));
-        }
-        self.tree.nodes[0].skip = self.tree.nodes.len() as u32;
+            Summary::combine(&parts)
+        };
+        let (root, moments) = node_of(&summary, 0, sources.len(), 0);
+        self.tree.nodes[0] = Node {
+            skip: self.tree.nodes.len() as u32,
+            ..root
+        };
+        self.tree.moments[0] = moments;
         let mut groups = std::mem::take(&mut self.groups);
         self.collect_groups(0, &mut groups);
         self.groups = groups;
@@ -673,7 +751,7 @@ mod tests {
             },
         ];
         let items: Vec<Item> = sources.iter().copied().zip(0..).collect();
-        let (_, moments) = node_of(&items, 0, 0);
+        let (_, moments) = node_of(&Summary::of(&items), 0, items.len(), 0);
         let [xx, yy, zz, xy, xz, yz] = moments.quad;
         assert_eq!((xy, xz, yz), (0.0, 0.0, 0.0), "{:?}", moments.quad);
         assert!((xx - 18.0).abs() < 1e-9 && (yy + 9.0).abs() < 1e-9 && (zz + 9.0).abs() < 1e-9);
