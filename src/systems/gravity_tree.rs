@@ -1,6 +1,6 @@
 //! Barnes–Hut: gravity from many sources through an octree (docs/design.md,
 //! "Gravity"). The sources, already sorted by id, are split into octants
-//! (a stable sort, so each leaf keeps id order) until at most
+//! (a stable counting sort, so each leaf keeps id order) until at most
 //! [`LEAF_SIZE`] remain; each node keeps its total `G·m`, center of mass
 //! and quadrupole moment, and the cube around its sources' bounding box
 //! (edge `s`). A body sums a node as a point mass plus its quadrupole term
