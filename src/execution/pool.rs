@@ -254,11 +254,7 @@ impl StageExecution<'_> {
         R: Send,
         K: Fn(S) -> R + Sync,
     {
-        if self.split {
-            self.execution.map_split(data, CHUNKS_PER_THREAD, kernel)
-        } else {
-            vec![kernel(data)]
-        }
+        self.map_in(data, CHUNKS_PER_THREAD, kernel)
     }
 
     /// Like [`map_chunks`](Self::map_chunks), in [`UNEVEN_CHUNKS_PER_THREAD`]
@@ -271,8 +267,19 @@ impl StageExecution<'_> {
         R: Send,
         K: Fn(S) -> R + Sync,
     {
+        self.map_in(data, UNEVEN_CHUNKS_PER_THREAD, kernel)
+    }
+
+    /// `kernel` over `data`: whole, on this thread, unless the stage
+    /// splits; then in about `chunks_per_thread` chunks per thread.
+    fn map_in<S, R, K>(&self, data: S, chunks_per_thread: usize, kernel: K) -> Vec<R>
+    where
+        S: Split,
+        R: Send,
+        K: Fn(S) -> R + Sync,
+    {
         if self.split {
-            self.execution.map_split(data, UNEVEN_CHUNKS_PER_THREAD, kernel)
+            self.execution.map_split(data, chunks_per_thread, kernel)
         } else {
             vec![kernel(data)]
         }

@@ -95,7 +95,7 @@ fn far_term(gm: __m256, q: [__m256; 6], r: [__m256; 3], softening2: __m256) -> [
 }
 
 /// One body's partial sums in `f64` (slots 0–3 and 4–7), into which each
-/// block's `f32` sums are carried, as the plain kernel's `LaneSums`.
+/// block's `f32` sums are carried, as the plain kernel's `lane_sums`.
 #[derive(Clone, Copy)]
 struct Sums([[__m256d; 2]; 3]);
 

@@ -125,12 +125,13 @@ impl GroupLists {
         }
     }
 
-    /// Pads both lists to a multiple of [`LANES`].
+    /// Pads both lists to a multiple of [`LANES`] with massless entries far
+    /// away (each list's first three columns are the position).
     pub fn pad(&mut self) {
-        for (columns, positions) in [(&mut self.near[..], 3), (&mut self.far[..], 3)] {
+        for columns in [&mut self.near[..], &mut self.far[..]] {
             while !columns[0].len().is_multiple_of(LANES) {
                 for (k, column) in columns.iter_mut().enumerate() {
-                    column.push(if k < positions { FAR_AWAY } else { 0.0 });
+                    column.push(if k < 3 { FAR_AWAY } else { 0.0 });
                 }
             }
         }
@@ -142,38 +143,28 @@ impl GroupLists {
     }
 }
 
-/// Per-lane partial sums, `f32` within a block, carried over into `f64`.
-struct LaneSums {
-    sums: [[f64; LANES]; 3],
-    block: [[f32; LANES]; 3],
-}
-
-impl LaneSums {
-    fn new() -> Self {
-        Self {
-            sums: [[0.0; LANES]; 3],
-            block: [[0.0; LANES]; 3],
-        }
-    }
-
-    fn add(&mut self, lane: usize, term: [f32; 3]) {
-        for (block, t) in self.block.iter_mut().zip(term) {
-            block[lane] += t;
-        }
-    }
-
-    /// Carries the block over after the `k`-th of `chunks` chunks when a
-    /// block is full or the list ends.
-    fn carry_after(&mut self, k: usize, chunks: usize) {
-        if (k + 1).is_multiple_of(BLOCK) || k + 1 == chunks {
-            for (sum, block) in self.sums.iter_mut().zip(&mut self.block) {
-                for (s, b) in sum.iter_mut().zip(block.iter_mut()) {
-                    *s += f64::from(*b);
-                    *b = 0.0;
+/// The per-lane sums of `term(i)` over the `chunks` chunks of [`LANES`]
+/// entries, entry `i` in lane `i % LANES`: blocks of [`BLOCK`] chunks summed
+/// in `f32`, each block then carried into the `f64` sums (as the AVX
+/// kernel's `block_sums`).
+fn lane_sums(chunks: usize, term: impl Fn(usize) -> [f32; 3]) -> [[f64; LANES]; 3] {
+    let mut sums = [[0.0; LANES]; 3];
+    for start in (0..chunks).step_by(BLOCK) {
+        let mut block = [[0.0f32; LANES]; 3];
+        for k in start..(start + BLOCK).min(chunks) {
+            for l in 0..LANES {
+                for (b, t) in block.iter_mut().zip(term(k * LANES + l)) {
+                    b[l] += t;
                 }
             }
         }
+        for (sum, block) in sums.iter_mut().zip(block) {
+            for (s, b) in sum.iter_mut().zip(block) {
+                *s += f64::from(b);
+            }
+        }
     }
+    sums
 }
 
 /// The sum of the lanes of each component, pairwise in a fixed order.
@@ -189,25 +180,15 @@ fn pull_on(lists: &GroupLists, p: DVec3, softening2: f32) -> DVec3 {
     let [px, py, pz] = lists.relative(p);
     let (near_chunks, far_chunks) = lists.chunks();
     let [x, y, z, gm] = &lists.near;
-    let mut near = LaneSums::new();
-    for k in 0..near_chunks {
-        for l in 0..LANES {
-            let i = k * LANES + l;
-            near.add(l, near_term(gm[i], [x[i] - px, y[i] - py, z[i] - pz], softening2));
-        }
-        near.carry_after(k, near_chunks);
-    }
+    let near = lane_sums(near_chunks, |i| {
+        near_term(gm[i], [x[i] - px, y[i] - py, z[i] - pz], softening2)
+    });
     let [x, y, z, gm, q @ ..] = &lists.far;
-    let mut far = LaneSums::new();
-    for k in 0..far_chunks {
-        for l in 0..LANES {
-            let i = k * LANES + l;
-            let quad = [q[0][i], q[1][i], q[2][i], q[3][i], q[4][i], q[5][i]];
-            far.add(l, far_term(gm[i], quad, [px - x[i], py - y[i], pz - z[i]], softening2));
-        }
-        far.carry_after(k, far_chunks);
-    }
-    lanes_total(near.sums) + lanes_total(far.sums)
+    let far = lane_sums(far_chunks, |i| {
+        let quad = [q[0][i], q[1][i], q[2][i], q[3][i], q[4][i], q[5][i]];
+        far_term(gm[i], quad, [px - x[i], py - y[i], pz - z[i]], softening2)
+    });
+    lanes_total(near) + lanes_total(far)
 }
 
 /// [`group_pulls`] lane by lane, on any processor.

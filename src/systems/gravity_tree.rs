@@ -117,8 +117,8 @@ fn octant(p: DVec3, center: DVec3) -> usize {
 }
 
 /// The least and greatest corner of the sources' positions.
-fn bounds(sources: &[GravitySource]) -> (DVec3, DVec3) {
-    sources.iter().fold(
+fn bounds<'a>(sources: impl IntoIterator<Item = &'a GravitySource>) -> (DVec3, DVec3) {
+    sources.into_iter().fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), s| (lo.min(s.position), hi.max(s.position)),
     )
@@ -161,10 +161,7 @@ fn add_quadrupole(quad: &mut [f64; 6], gm: f64, d: DVec3) {
 impl Summary {
     /// Of a leaf's sources, one by one.
     fn of(items: &[Item]) -> Self {
-        let (lo, hi) = items.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), (s, _)| (lo.min(s.position), hi.max(s.position)),
-        );
+        let (lo, hi) = bounds(items.iter().map(|(s, _)| s));
         let gm: f64 = items.iter().map(|(s, _)| s.gm).sum();
         let com = if gm > 0.0 {
             items.iter().map(|(s, _)| s.position * s.gm).sum::<DVec3>() / gm
