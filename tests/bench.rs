@@ -124,6 +124,7 @@ fn writes_results_passes_overhead_machine_and_plot() {
         "os: ",
         "rustc: ",
         "kessler: ",
+        "gravity kernel: ",
         "date: ",
         "command: ",
         "split auto: ",

@@ -5,9 +5,11 @@ use std::fmt::Write as _;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use crate::execution::available_threads;
+use crate::systems::Kernel;
 
 /// A `key: value` line per fact: CPU model, cores and threads, memory, OS,
-/// rustc, Kessler's version and commit, the date (UTC), and the command.
+/// rustc, Kessler's version and commit, the gravity kernel the processor
+/// runs, the date (UTC), and the command.
 pub fn machine_report(command: &str) -> String {
     let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
     let mut out = String::new();
@@ -30,6 +32,7 @@ pub fn machine_report(command: &str) -> String {
         "kessler",
         format!("{} (commit {})", env!("CARGO_PKG_VERSION"), env!("KESSLER_GIT_COMMIT")),
     );
+    line("gravity kernel", Kernel::best().name().to_owned());
     line(
         "profile",
         if cfg!(debug_assertions) { "debug" } else { "release" }.to_owned(),

@@ -171,12 +171,12 @@ fn tree_pull<'a>(
     let PullScratch { tree, accelerations } = scratch;
     tree.rebuild_split(sources, stage);
     let tree = &*tree;
-    let by_group = stage.map_uneven_chunks(0..tree.group_count(), |groups| {
-        tree.group_accelerations(groups, theta, softening2)
+    let by_region = stage.map_uneven_chunks(0..tree.region_count(), |regions| {
+        tree.region_accelerations(regions, theta, softening2)
     });
     accelerations.clear();
     accelerations.resize(sources.len(), Vec3::ZERO);
-    let in_leaf_order: Vec<Vec3> = by_group.into_iter().flatten().collect();
+    let in_leaf_order: Vec<Vec3> = by_region.into_iter().flatten().collect();
     debug_assert_eq!(in_leaf_order.len(), sources.len(), "every source is in one group");
     for (a, &k) in in_leaf_order.into_iter().zip(tree.given_order()) {
         accelerations[k as usize] = a;

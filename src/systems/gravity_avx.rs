@@ -161,9 +161,9 @@ fn block_sums<const B: usize, const N: usize>(
 /// `gravity_columns::pull_on` for each of `B` bodies at `p`.
 #[inline]
 #[target_feature(enable = "avx")]
-fn pulls<const B: usize>(lists: &GroupLists, p: [DVec3; B], softening2: f32) -> [DVec3; B] {
+fn pulls<const B: usize>(lists: &GroupLists, at: [DVec3; B], softening2: f32) -> [DVec3; B] {
     let (near_chunks, far_chunks) = lists.chunks();
-    let p = p.map(|p| lists.relative(p).map(|c| _mm256_set1_ps(c)));
+    let p = at.map(|p| lists.relative(p).map(|c| _mm256_set1_ps(c)));
     let softening2 = _mm256_set1_ps(softening2);
     let near = lists
         .near
@@ -181,7 +181,7 @@ fn pulls<const B: usize>(lists: &GroupLists, p: [DVec3; B], softening2: f32) -> 
         let r = [_mm256_sub_ps(px, x), _mm256_sub_ps(py, y), _mm256_sub_ps(pz, z)];
         far_term(gm, q, r, softening2)
     });
-    std::array::from_fn(|b| near_sums[b].total() + far_sums[b].total())
+    std::array::from_fn(|b| lists.total(near_sums[b].total() + far_sums[b].total(), at[b]))
 }
 
 /// `gravity_columns::group_pulls` with AVX.

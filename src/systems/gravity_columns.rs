@@ -1,4 +1,4 @@
-//! The sums of the tree's group walk (docs/design.md, "Gravity"), over
+//! The sums of the tree's walks (docs/design.md, "Gravity"), over
 //! columns: a group gathers the sources it sums one by one and the nodes it
 //! takes whole into [`GroupLists`] once, and each of its bodies then runs
 //! down them in [`LANES`] independent partial sums, the slots of a SIMD
@@ -11,13 +11,16 @@
 //! of the `f32` positions and of the result, while `f32`'s division and
 //! square root cost a fraction of `f64`'s and a register holds twice the
 //! lanes. Each lane's `f32` partial sum is carried over into `f64` every
-//! [`BLOCK`] terms. Where the processor has AVX the kernel is
-//! `gravity_avx`'s; elsewhere it runs here, lane by lane: the same
-//! operations in the same order, so the same bits.
+//! [`BLOCK`] terms. Which [`Kernel`] runs depends on the processor:
+//! `gravity_avx512`'s (sixteen lanes, `1/r` from an estimate and a Newton
+//! step: the last bits differ), `gravity_avx`'s (the same operations as
+//! lane by lane in the same order, so the same bits), or lane by lane here.
+//! A processor always runs the same one, so sequential and parallel agree.
 
 use bevy::math::{DVec3, Vec3};
 
 use super::gravity::GravitySource;
+use super::gravity_local::Local;
 
 /// Partial sums per component: the `f32` slots of a 256-bit register.
 pub const LANES: usize = 8;
@@ -29,7 +32,7 @@ pub const BLOCK: usize = 16;
 /// Padding: a massless entry this far away adds exactly nothing (an
 /// infinite squared distance in `f32`, a finite distance from any position
 /// a body may have, ±10³⁰, so no NaN).
-const FAR_AWAY: f32 = f32::MAX / 4.0;
+pub(super) const FAR_AWAY: f32 = f32::MAX / 4.0;
 
 /// The pull of a source `G·m` = `gm` at `d` from the body (`ε²` =
 /// `softening2`): `G·m·d/(|d|² + ε²)^{3/2}`, or nothing at distance 0 (the
@@ -70,15 +73,41 @@ pub fn far_term(gm: f32, q: [f32; 6], r: [f32; 3], softening2: f32) -> [f32; 3] 
     ]
 }
 
+/// Sources as columns, as the near lists copy them: position (`f64`) and
+/// `G·m` (`f32`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SourceColumns {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    gm: Vec<f32>,
+}
+
+impl SourceColumns {
+    /// The columns of `sources`, reusing this one's memory.
+    pub fn fill(&mut self, sources: &[GravitySource]) {
+        self.x.clear();
+        self.y.clear();
+        self.z.clear();
+        self.gm.clear();
+        self.x.extend(sources.iter().map(|s| s.position.x));
+        self.y.extend(sources.iter().map(|s| s.position.y));
+        self.z.extend(sources.iter().map(|s| s.position.z));
+        self.gm.extend(sources.iter().map(|s| s.gm as f32));
+    }
+}
+
 /// What a group of bodies sums, as columns relative to the group's
 /// center, each padded with massless entries to a multiple of [`LANES`]:
 /// the sources it sums one by one (position, `G·m`) and the nodes it takes
-/// whole (center of mass, `G·m`, quadrupole).
+/// whole (center of mass, `G·m`, quadrupole); and its region's local
+/// expansion, if any (`gravity_local`).
 #[derive(Clone, Debug, Default)]
 pub struct GroupLists {
     pub(super) center: DVec3,
     pub(super) near: [Vec<f32>; 4],
     pub(super) far: [Vec<f32>; 10],
+    pub(super) local: Option<Local>,
 }
 
 impl GroupLists {
@@ -89,13 +118,15 @@ impl GroupLists {
             center: DVec3::ZERO,
             near: std::array::from_fn(|_| Vec::with_capacity(near)),
             far: std::array::from_fn(|_| Vec::with_capacity(far)),
+            local: None,
         }
     }
 
     /// Empties the lists, keeping their memory; positions are taken
-    /// relative to `center` from now on.
-    pub fn clear(&mut self, center: DVec3) {
+    /// relative to `center` from now on, and `local` adds its pull.
+    pub fn clear(&mut self, center: DVec3, local: Option<Local>) {
         self.center = center;
+        self.local = local;
         self.near.iter_mut().chain(&mut self.far).for_each(Vec::clear);
     }
 
@@ -105,14 +136,14 @@ impl GroupLists {
         (p - self.center).as_vec3().to_array()
     }
 
-    /// Appends sources to sum one by one.
-    pub fn push_near(&mut self, sources: &[GravitySource]) {
+    /// Appends the sources `range` of `sources` to sum one by one.
+    pub fn push_near(&mut self, sources: &SourceColumns, range: std::ops::Range<usize>) {
         let c = self.center;
         let [x, y, z, gm] = &mut self.near;
-        x.extend(sources.iter().map(|s| (s.position.x - c.x) as f32));
-        y.extend(sources.iter().map(|s| (s.position.y - c.y) as f32));
-        z.extend(sources.iter().map(|s| (s.position.z - c.z) as f32));
-        gm.extend(sources.iter().map(|s| s.gm as f32));
+        x.extend(sources.x[range.clone()].iter().map(|v| (v - c.x) as f32));
+        y.extend(sources.y[range.clone()].iter().map(|v| (v - c.y) as f32));
+        z.extend(sources.z[range.clone()].iter().map(|v| (v - c.z) as f32));
+        gm.extend_from_slice(&sources.gm[range]);
     }
 
     /// Appends a node to take whole.
@@ -134,6 +165,16 @@ impl GroupLists {
                     column.push(if k < 3 { FAR_AWAY } else { 0.0 });
                 }
             }
+        }
+    }
+
+    /// A body's pull at `p` from its near and far sums `sums` and the
+    /// local expansion.
+    #[inline]
+    pub(super) fn total(&self, sums: DVec3, p: DVec3) -> DVec3 {
+        match &self.local {
+            Some(local) => sums + local.at(p),
+            None => sums,
         }
     }
 
@@ -188,7 +229,7 @@ fn pull_on(lists: &GroupLists, p: DVec3, softening2: f32) -> DVec3 {
         let quad = [q[0][i], q[1][i], q[2][i], q[3][i], q[4][i], q[5][i]];
         far_term(gm[i], quad, [px - x[i], py - y[i], pz - z[i]], softening2)
     });
-    lanes_total(near) + lanes_total(far)
+    lists.total(lanes_total(near) + lanes_total(far), p)
 }
 
 /// [`group_pulls`] lane by lane, on any processor.
@@ -200,21 +241,86 @@ fn group_pulls_plain(lists: &GroupLists, members: &[GravitySource], softening2: 
     );
 }
 
-/// Kernel: the pull of `lists` on each of `members`, appended to `out`
-/// (`ε²` = `softening2`); with AVX where the processor has it, the same
-/// bits either way.
-pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        #[expect(unsafe_code, reason = "the AVX kernel, called where the processor has AVX")]
-        // SAFETY: the processor has AVX, checked just above, the one
-        // requirement of the AVX kernel.
-        unsafe {
-            super::gravity_avx::group_pulls(lists, members, softening2, out);
-        }
-        return;
+/// A version of the group kernel, for one kind of processor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kernel {
+    /// Sixteen lanes, `1/r` from an estimate and a Newton step
+    /// (`gravity_avx512`): the last bits differ from the others'.
+    Avx512,
+    /// Eight lanes in AVX registers (`gravity_avx`): the same bits as
+    /// [`Plain`](Self::Plain).
+    Avx,
+    /// Lane by lane, on any processor.
+    Plain,
+}
+
+impl Kernel {
+    /// The kernels this processor can run, fastest first.
+    pub fn available() -> impl Iterator<Item = Kernel> {
+        [Kernel::Avx512, Kernel::Avx, Kernel::Plain]
+            .into_iter()
+            .filter(|k| k.supported())
     }
-    group_pulls_plain(lists, members, softening2, out);
+
+    /// The kernel every group runs on this processor: the fastest.
+    pub fn best() -> Kernel {
+        Kernel::available().next().unwrap_or(Kernel::Plain)
+    }
+
+    /// Its name, as the bench's machine file gives it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Avx512 => "AVX-512",
+            Kernel::Avx => "AVX",
+            Kernel::Plain => "plain",
+        }
+    }
+
+    /// Whether this processor has what the kernel needs.
+    fn supported(self) -> bool {
+        match self {
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx => std::arch::is_x86_feature_detected!("avx"),
+            Kernel::Plain => true,
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// The pull of `lists` on each of `members`, appended to `out` (`ε²` =
+    /// `softening2`); lane by lane where the processor lacks what the
+    /// kernel needs.
+    pub fn run(self, lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
+        match self {
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512 if self.supported() => {
+                #[expect(unsafe_code, reason = "the AVX-512 kernel, called where the processor has AVX-512")]
+                // SAFETY: the processor has AVX-512 Foundation, checked just
+                // above, the one requirement of the AVX-512 kernel.
+                unsafe {
+                    super::gravity_avx512::group_pulls(lists, members, softening2, out);
+                }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx if self.supported() => {
+                #[expect(unsafe_code, reason = "the AVX kernel, called where the processor has AVX")]
+                // SAFETY: the processor has AVX, checked just above, the one
+                // requirement of the AVX kernel.
+                unsafe {
+                    super::gravity_avx::group_pulls(lists, members, softening2, out);
+                }
+            }
+            _ => group_pulls_plain(lists, members, softening2, out),
+        }
+    }
+}
+
+/// Kernel: the pull of `lists` on each of `members`, appended to `out`
+/// (`ε²` = `softening2`), with the [best](Kernel::best) kernel.
+pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
+    Kernel::best().run(lists, members, softening2, out);
 }
 
 #[cfg(test)]
@@ -234,12 +340,18 @@ mod tests {
             .collect()
     }
 
+    fn columns(sources: &[GravitySource]) -> SourceColumns {
+        let mut columns = SourceColumns::default();
+        columns.fill(sources);
+        columns
+    }
+
     #[test]
     fn the_near_list_sums_what_the_sources_pull_skipping_the_body_itself() {
         let sources = sources(11);
         let mut lists = GroupLists::default();
-        lists.clear(DVec3::new(2.0, 1.0, -3.0));
-        lists.push_near(&sources);
+        lists.clear(DVec3::new(2.0, 1.0, -3.0), None);
+        lists.push_near(&columns(&sources), 0..sources.len());
         lists.pad();
         let at = sources[3].position;
         let mut expected = DVec3::ZERO;
@@ -263,7 +375,7 @@ mod tests {
         assert!((got - expected).length() <= 1e-6 * expected.length(), "{got}");
         let q = [0.1, -0.2, 0.1, 0.0, 0.05, 0.0];
         let mut lists = GroupLists::default();
-        lists.clear(DVec3::ZERO);
+        lists.clear(DVec3::ZERO, None);
         lists.push_far(DVec3::new(10.0, 0.0, 0.0), 3.0, q);
         lists.pad();
         let one = Vec3::from_array(far_term(3.0, q.map(|q| q as f32), [-10.0, 0.0, 0.0], 1.0));
@@ -271,12 +383,10 @@ mod tests {
         assert!(pull_on(&lists, DVec3::splat(1e30), 0.0).is_finite());
     }
 
-    /// The kernel as dispatched (AVX where the processor has it) gives the
-    /// same bits as lane by lane: random lists longer than a block, with the
-    /// body itself, sources on top of each other, softening 0 and distances
-    /// beyond `f32`'s range.
-    #[test]
-    fn with_and_without_avx_the_same_bits() {
+    /// Random lists longer than a block, with the body itself, sources on
+    /// top of each other, softening 0 and distances beyond `f32`'s range:
+    /// the pulls of each kernel the processor has, and lane by lane.
+    fn every_kernel(mut check: impl FnMut(Kernel, &[Vec3], &[Vec3], &[f64], usize)) {
         let mut rng = Rng::new(9);
         for round in 0..24 {
             let count = 1 + round * 9;
@@ -293,26 +403,64 @@ mod tests {
             }
             let softening2 = if round % 2 == 0 { 0.0 } else { 0.3 };
             let mut lists = GroupLists::default();
-            lists.clear(DVec3::new(3.0, -20.0, 7.5));
-            lists.push_near(&all);
+            lists.clear(DVec3::new(3.0, -20.0, 7.5), None);
+            lists.push_near(&columns(&all), 0..all.len());
+            let mut far = Vec::new();
             for s in &all {
                 let q = std::array::from_fn(|_| rng.symmetric(s.gm));
-                lists.push_far(s.position * 4.0 + DVec3::splat(300.0), s.gm, q);
+                let com = s.position * 4.0 + DVec3::splat(300.0);
+                lists.push_far(com, s.gm, q);
+                far.push((com, s.gm));
             }
             lists.pad();
-            let (mut plain, mut dispatched) = (Vec::new(), Vec::new());
+            // The size of the terms summed: Σ G·m/r² over both lists.
+            let scale: Vec<f64> = all
+                .iter()
+                .map(|b| {
+                    let term = |p: DVec3, gm: f64| {
+                        let r2 = (p - b.position).length_squared() + softening2;
+                        if r2 > 0.0 { gm / r2 } else { 0.0 }
+                    };
+                    all.iter().map(|s| term(s.position, s.gm)).sum::<f64>()
+                        + far.iter().map(|&(p, gm)| term(p, gm)).sum::<f64>()
+                })
+                .collect();
+            let mut plain = Vec::new();
             group_pulls_plain(&lists, &all, softening2, &mut plain);
-            group_pulls(&lists, &all, softening2, &mut dispatched);
+            for kernel in Kernel::available() {
+                let mut got = Vec::new();
+                kernel.run(&lists, &all, softening2, &mut got);
+                check(kernel, &plain, &got, &scale, round);
+            }
+        }
+    }
+
+    /// AVX gives the same bits as lane by lane; AVX-512 the same pulls to
+    /// `f32`'s precision of the terms summed, never NaN.
+    #[test]
+    fn every_kernel_gives_the_pulls_of_lane_by_lane() {
+        let mut tried = Vec::new();
+        every_kernel(|kernel, plain, got, scale, round| {
+            tried.push(kernel);
             let bits = |v: &[Vec3]| {
                 v.iter()
                     .flat_map(|a| a.to_array().map(f32::to_bits))
                     .collect::<Vec<_>>()
             };
-            assert_eq!(bits(&plain), bits(&dispatched), "round {round}");
-        }
-        #[cfg(target_arch = "x86_64")]
-        if !std::arch::is_x86_feature_detected!("avx") {
-            eprintln!("this processor has no AVX: the kernel ran lane by lane both times");
-        }
+            match kernel {
+                Kernel::Avx512 => {
+                    for ((a, b), scale) in got.iter().zip(plain).zip(scale) {
+                        let error = (a.as_dvec3() - b.as_dvec3()).length();
+                        assert!(a.is_finite() && error <= 1e-6 * scale, "round {round}: {a} vs {b}");
+                    }
+                }
+                _ => assert_eq!(bits(plain), bits(got), "{kernel:?}, round {round}"),
+            }
+        });
+        eprintln!(
+            "kernels this processor has: {:?}",
+            Kernel::available().map(Kernel::name).collect::<Vec<_>>()
+        );
+        assert!(tried.contains(&Kernel::Plain));
     }
 }

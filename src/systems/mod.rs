@@ -7,8 +7,12 @@ mod fault;
 mod gravity;
 #[cfg(target_arch = "x86_64")]
 mod gravity_avx;
+#[cfg(target_arch = "x86_64")]
+mod gravity_avx512;
 mod gravity_columns;
+mod gravity_local;
 mod gravity_tree;
+mod gravity_walk;
 mod integrate;
 mod plugins;
 mod response;
@@ -22,6 +26,7 @@ pub use broad_phase::*;
 pub use contact::*;
 pub use fault::*;
 pub use gravity::*;
+pub use gravity_columns::Kernel;
 pub use gravity_tree::*;
 pub use integrate::*;
 pub use plugins::*;

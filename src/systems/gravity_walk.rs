@@ -1,0 +1,303 @@
+//! The walks of the tree (docs/design.md, "Gravity"): every source's
+//! acceleration, region by region.
+//!
+//! A region (at most [`REGION_SIZE`](super::REGION_SIZE) sources) walks the tree once for its
+//! bounding box. A node the box takes whole, any group in it takes whole
+//! too; a node every box within it must open, every group opens; a leaf
+//! reached through such nodes, every group sums one by one. Those are
+//! shared. Only the nodes in between, which some groups may take whole
+//! and others not, are left to each group's own walk: the group's lists
+//! are the same as if it had walked the whole tree alone. Sources of the
+//! leaves the region opens that lie beyond [`local_reach`] of its center
+//! go to the region's local expansion (`gravity_local`), summed once for
+//! all its bodies instead of once per body.
+
+use std::ops::Range;
+
+use bevy::math::{DVec3, Vec3};
+
+use super::gravity_columns::{GroupLists, group_pulls};
+use super::gravity_local::{Local, LocalExpansion, LocalSources};
+use super::gravity_tree::{Octree, bounds};
+
+/// Room a group's near list starts with (a uniform cloud's groups sum
+/// about 1 500 sources one by one, a shattered cluster's up to a few
+/// thousand); its far list gets a quarter.
+const LIST_CAPACITY: usize = 4096;
+
+/// The least distance from the center of the box `lo..=hi` at which a
+/// source joins the local expansion of the region in the box: `2·ρ/θ`, `ρ`
+/// half the box's diagonal (`inverse_theta` = `1/θ`), so that no body of
+/// the region is farther from the center than `θ/2` of the source's
+/// distance; infinite for `θ = 0`.
+fn local_reach(lo: DVec3, hi: DVec3, inverse_theta: f64) -> f64 {
+    if inverse_theta.is_infinite() {
+        return f64::INFINITY;
+    }
+    (hi - lo).length() * inverse_theta
+}
+
+/// What a region's walk shares with its groups.
+#[derive(Clone, Debug, Default)]
+struct Shared {
+    /// Runs of sources (leaf order) every group sums one by one.
+    near: Vec<Range<usize>>,
+    /// Nodes every group takes whole.
+    far: Vec<u32>,
+    /// Nodes whose subtrees each group walks itself.
+    open: Vec<u32>,
+    /// The distant sources, relative to the region's center.
+    local: LocalSources,
+}
+
+/// Appends `range` to `runs`, joined to the last run if they touch.
+fn push_run(runs: &mut Vec<Range<usize>>, range: Range<usize>) {
+    match runs.last_mut() {
+        Some(last) if last.end == range.start => last.end = range.end,
+        _ => runs.push(range),
+    }
+}
+
+impl Octree {
+    /// Kernel: the acceleration of every source in the regions `regions`
+    /// (a range of region indices), in leaf order, with the opening angle
+    /// `theta` and softening `ε²` = `softening2`. Each source's sum depends
+    /// on its region and group alone, never on how the regions are split
+    /// among threads.
+    pub fn region_accelerations(&self, regions: Range<usize>, theta: f64, softening2: f64) -> Vec<Vec3> {
+        let inverse_theta = theta.recip();
+        let regions = &self.regions()[regions];
+        let (nodes, moments) = self.nodes();
+        let sources = self.sources();
+        let columns = self.columns();
+        let mut shared = Shared::default();
+        let mut near = Vec::new();
+        let mut lists = GroupLists::with_capacity(LIST_CAPACITY, LIST_CAPACITY / 4);
+        let mut out = Vec::with_capacity(regions.iter().map(|r| r.run.sources.len()).sum());
+        for region in regions {
+            let (lo, hi) = bounds(&sources[region.run.sources.start as usize..region.run.sources.end as usize]);
+            self.region_walk(lo, hi, inverse_theta, &mut shared);
+            let local = (!shared.local.is_empty()).then(|| Local {
+                center: (lo + hi) * 0.5,
+                expansion: LocalExpansion::of(&shared.local, softening2),
+            });
+            for group in &self.groups()[region.groups.start as usize..region.groups.end as usize] {
+                let members = &sources[group.start as usize..group.end as usize];
+                let (lo, hi) = bounds(members);
+                lists.clear((lo + hi) * 0.5, local);
+                for run in &shared.near {
+                    lists.push_near(columns, run.clone());
+                }
+                for &i in &shared.far {
+                    let (node, m) = (&nodes[i as usize], &moments[i as usize]);
+                    lists.push_far(node.com, m.gm, m.quad);
+                }
+                near.clear();
+                for &root in &shared.open {
+                    self.group_walk(root as usize, lo, hi, inverse_theta, &mut near, &mut lists);
+                }
+                for run in &near {
+                    lists.push_near(columns, run.clone());
+                }
+                lists.pad();
+                group_pulls(&lists, members, softening2, &mut out);
+            }
+        }
+        out
+    }
+
+    /// The region walk for the box `lo..=hi` into `shared` (see the
+    /// module's documentation).
+    fn region_walk(&self, lo: DVec3, hi: DVec3, inverse_theta: f64, shared: &mut Shared) {
+        let Shared { near, far, open, local } = shared;
+        near.clear();
+        far.clear();
+        open.clear();
+        local.clear();
+        let (nodes, _) = self.nodes();
+        let sources = self.sources();
+        let center = (lo + hi) * 0.5;
+        let reach = local_reach(lo, hi, inverse_theta);
+        let beyond = |d: DVec3| d.length_squared() > reach * reach;
+        let mut i = 0;
+        while i < nodes.len() {
+            let node = &nodes[i];
+            if node.leaf {
+                let (cube, half) = node.cube();
+                if !beyond((center - cube).abs() + half) {
+                    push_run(near, node.range());
+                } else {
+                    // Its farthest corner is beyond: source by source.
+                    for (k, s) in sources[node.range()].iter().enumerate() {
+                        if beyond(s.position - center) {
+                            local.push(s.position - center, s.gm);
+                        } else {
+                            let k = node.first as usize + k;
+                            push_run(near, k..k + 1);
+                        }
+                    }
+                }
+            } else if node.accepts(lo, hi, inverse_theta) {
+                far.push(i as u32);
+            } else if node.opened_by_all(lo, hi, inverse_theta) {
+                i += 1;
+                continue;
+            } else {
+                open.push(i as u32);
+            }
+            i = node.skip as usize;
+        }
+        local.pad();
+    }
+
+    /// A group's walk of the subtree of the node `root` for its box
+    /// `lo..=hi`: the nodes it takes whole go to `lists`, the leaves it
+    /// opens to `near` as runs of sources.
+    fn group_walk(
+        &self,
+        root: usize,
+        lo: DVec3,
+        hi: DVec3,
+        inverse_theta: f64,
+        near: &mut Vec<Range<usize>>,
+        lists: &mut GroupLists,
+    ) {
+        let (nodes, moments) = self.nodes();
+        let mut i = root;
+        while i < nodes[root].skip as usize {
+            let node = &nodes[i];
+            if node.leaf {
+                push_run(near, node.range());
+                i = node.skip as usize;
+            } else if node.accepts(lo, hi, inverse_theta) {
+                lists.push_far(node.com, moments[i].gm, moments[i].quad);
+                i = node.skip as usize;
+            } else {
+                i += 1;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::components::BodyId;
+    use crate::rng::Rng;
+    use crate::systems::gravity_tree::tests::cluster;
+    use crate::systems::{GravitySource, acceleration_at};
+
+    /// Every source's acceleration from the walks, in the order given; the
+    /// regions cut into uneven chunks as threads would.
+    fn walked(sources: &[GravitySource], theta: f64) -> Vec<Vec3> {
+        let mut tree = Octree::default();
+        tree.rebuild(sources);
+        let n = tree.region_count();
+        let cuts = [0, n / 7, n / 3, n / 3 + 1, n];
+        let mut out = vec![Vec3::ZERO; sources.len()];
+        let leaf_order = cuts
+            .windows(2)
+            .flat_map(|w| tree.region_accelerations(w[0]..w[1], theta, 1.0));
+        for (a, &k) in leaf_order.zip(tree.given_order()) {
+            out[k as usize] = a;
+        }
+        assert_eq!(tree.given_order().len(), sources.len());
+        out
+    }
+
+    /// Relative errors against the direct sum, sorted.
+    fn errors(sources: &[GravitySource], theta: f64) -> Vec<f64> {
+        let mut e: Vec<f64> = walked(sources, theta)
+            .iter()
+            .zip(sources)
+            .map(|(a, s)| {
+                let d = acceleration_at(s.id, s.position.as_vec3(), sources, 1.0).as_dvec3();
+                (a.as_dvec3() - d).length() / d.length()
+            })
+            .collect();
+        e.sort_unstable_by(f64::total_cmp);
+        e
+    }
+
+    #[test]
+    fn the_walks_meet_the_goal_and_give_the_direct_sum_at_theta_zero() {
+        let sources = cluster(3000, 1);
+        let e = errors(&sources, 0.5);
+        let (median, p99) = (e[e.len() / 2], e[e.len() * 99 / 100]);
+        eprintln!("walks, θ = 0.5: median relative error {median:.2e}, 99th percentile {p99:.2e}");
+        assert!(median <= 1e-3 && p99 <= 1e-2, "median {median}, 99th percentile {p99}");
+        // θ = 0: the direct sum to f32 precision. The near sums are f32
+        // from positions relative to the group: about one f32 rounding at
+        // the median, a few dozen where the pulls nearly cancel.
+        let e = errors(&sources, 0.0);
+        let (median, worst) = (e[e.len() / 2], e[e.len() - 1]);
+        eprintln!("walks, θ = 0: median relative error {median:.2e}, worst {worst:.2e}");
+        assert!(median <= 1e-7 && worst <= 1e-5, "θ = 0: median {median}, worst {worst}");
+    }
+
+    /// A dense clump in a wide, sparse halo: the halo's leaves are as big as
+    /// their distance, so the clump's bodies would sum the halo one by one;
+    /// the clump's regions expand it instead, and the pulls still meet the
+    /// goal.
+    #[test]
+    fn a_clump_in_a_sparse_halo_expands_the_halo_and_meets_the_goal() {
+        let mut rng = Rng::new(11);
+        let sources: Vec<GravitySource> = (0..3000)
+            .map(|i| {
+                let dir = DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0));
+                let r = if i % 3 == 0 {
+                    rng.range(100.0, 20_000.0)
+                } else {
+                    rng.range(0.0, 30.0)
+                };
+                GravitySource {
+                    id: BodyId(i),
+                    position: dir.normalize_or_zero() * r,
+                    gm: 6.674 * rng.range(0.5, 2.0),
+                }
+            })
+            .collect();
+        let mut tree = Octree::default();
+        tree.rebuild(&sources);
+        let mut shared = Shared::default();
+        let (lo, hi) = tree
+            .regions()
+            .iter()
+            .map(|r| bounds(&tree.sources()[r.run.sources.start as usize..r.run.sources.end as usize]))
+            .min_by(|a, b| (a.1 - a.0).length().total_cmp(&(b.1 - b.0).length()))
+            .unwrap();
+        tree.region_walk(lo, hi, 2.0, &mut shared);
+        assert!(shared.local.len() > 500, "{} expanded", shared.local.len());
+        let e = errors(&sources, 0.5);
+        let (median, p99) = (e[e.len() / 2], e[e.len() * 99 / 100]);
+        eprintln!("clump and halo, θ = 0.5: median relative error {median:.2e}, 99th percentile {p99:.2e}");
+        assert!(median <= 1e-3 && p99 <= 1e-2, "median {median}, 99th percentile {p99}");
+    }
+
+    /// A leaf at the deepest level holds every source on one point, more
+    /// than a group's worth: it is a group too, and every source gets its
+    /// own acceleration.
+    #[test]
+    fn sources_on_one_point_beyond_a_group_are_a_group_too() {
+        let mut sources: Vec<GravitySource> = (0..40)
+            .map(|i| GravitySource {
+                id: BodyId(i),
+                position: DVec3::splat(3.0),
+                gm: 1.0,
+            })
+            .collect();
+        sources.push(GravitySource {
+            id: BodyId(40),
+            position: DVec3::new(13.0, 3.0, 3.0),
+            gm: 2.0,
+        });
+        let got = walked(&sources, 0.5);
+        // Each of the 40 feels the lone source 10 away (softening 1) and not
+        // the others on its point; the lone one feels all 40.
+        let pull = |gm: f64| (gm * 10.0 / 101f64.powf(1.5)) as f32;
+        for a in &got[..40] {
+            assert!((a.x - pull(2.0)).abs() < 1e-6 && a.y == 0.0, "{a}");
+        }
+        assert!((got[40].x + pull(40.0)).abs() < 1e-5, "{}", got[40]);
+    }
+}
