@@ -81,6 +81,12 @@ impl Node {
         (self.center.as_dvec3(), DVec3::splat(f64::from(self.half)))
     }
 
+    /// The point of its cube nearest to `p`.
+    pub(super) fn clamp(&self, p: DVec3) -> DVec3 {
+        let (center, half) = self.cube();
+        p.clamp(center - half, center + half)
+    }
+
     /// Whether every box within `lo..=hi` opens the node (none may take it
     /// whole, [`accepts`](Self::accepts)): the box lies in the node's cube,
     /// or no point of it is farther than [`reach`](Self::reach) from the

@@ -139,7 +139,10 @@ impl Octree {
                 }
             } else if node.accepts(lo, hi, inverse_theta) {
                 far.push(i as u32);
-            } else if node.opened_by_all(lo, hi, inverse_theta) {
+            } else if node.opened_by_all(lo, hi, inverse_theta) || beyond(center - node.clamp(center)) {
+                // Opened by every group, or so far that the region decides
+                // for its groups: it opens the node, its leaves go to the
+                // local expansion.
                 i += 1;
                 continue;
             } else {
