@@ -17,6 +17,7 @@ use bevy::math::DVec3;
 use bevy::prelude::*;
 
 use super::gravity_tree::Octree;
+use super::gravity_walk::RegionShare;
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::execution::{Execution, StageExecution};
 use crate::resources::{GravityMethod, SimulationSettings};
@@ -171,12 +172,19 @@ fn tree_pull<'a>(
     let PullScratch { tree, accelerations } = scratch;
     tree.rebuild_split(sources, stage);
     let tree = &*tree;
-    let by_region = stage.map_uneven_chunks(0..tree.region_count(), |regions| {
-        tree.region_accelerations(regions, theta, softening2)
+    let shares: Vec<RegionShare> = stage
+        .map_uneven_chunks(0..tree.region_count(), |regions| {
+            tree.region_shares(regions, theta, softening2)
+        })
+        .into_iter()
+        .flatten()
+        .collect();
+    let by_group = stage.map_uneven_chunks(0..tree.group_count(), |groups| {
+        tree.group_accelerations(groups, &shares, theta, softening2)
     });
     accelerations.clear();
     accelerations.resize(sources.len(), Vec3::ZERO);
-    let in_leaf_order: Vec<Vec3> = by_region.into_iter().flatten().collect();
+    let in_leaf_order: Vec<Vec3> = by_group.into_iter().flatten().collect();
     debug_assert_eq!(in_leaf_order.len(), sources.len(), "every source is in one group");
     for (a, &k) in in_leaf_order.into_iter().zip(tree.given_order()) {
         accelerations[k as usize] = a;

@@ -153,6 +153,8 @@ pub struct Octree {
     /// within the regions, in leaf order; together they hold every source
     /// once.
     groups: Vec<std::ops::Range<u32>>,
+    /// For each group, the index of its region.
+    group_regions: Vec<u32>,
 }
 
 fn octant(p: DVec3, center: DVec3) -> usize {
@@ -402,6 +404,7 @@ impl Octree {
         self.tree.clear();
         self.regions.clear();
         self.groups.clear();
+        self.group_regions.clear();
         self.sources.clear();
         self.columns.fill(&[]);
         self.given.clear();
@@ -451,6 +454,8 @@ impl Octree {
             self.collect_siblings(run.nodes.clone(), GROUP_SIZE, &mut groups);
             self.groups.extend(groups.drain(..).map(|g| g.sources));
             let groups = first..self.groups.len() as u32;
+            self.group_regions
+                .extend(groups.clone().map(|_| self.regions.len() as u32));
             self.regions.push(Region { run, groups });
         }
     }
@@ -569,9 +574,19 @@ impl Octree {
         &self.groups
     }
 
+    /// For each group, the index of its region.
+    pub(super) fn group_regions(&self) -> &[u32] {
+        &self.group_regions
+    }
+
     /// Number of regions (see `gravity_walk`).
     pub fn region_count(&self) -> usize {
         self.regions.len()
+    }
+
+    /// Number of groups (see `gravity_walk`).
+    pub fn group_count(&self) -> usize {
+        self.groups.len()
     }
 
     /// For each source in leaf order, its index in the order the tree was

@@ -1,16 +1,19 @@
 //! The walks of the tree (docs/design.md, "Gravity"): every source's
 //! acceleration, region by region.
 //!
-//! A region (at most [`REGION_SIZE`](super::REGION_SIZE) sources) walks the tree once for its
-//! bounding box. A node the box takes whole, any group in it takes whole
-//! too; a node every box within it must open, every group opens; a leaf
-//! reached through such nodes, every group sums one by one. Those are
-//! shared. Only the nodes in between, which some groups may take whole
-//! and others not, are left to each group's own walk: the group's lists
-//! are the same as if it had walked the whole tree alone. Sources of the
+//! First each region (at most [`REGION_SIZE`](super::REGION_SIZE)
+//! sources) walks the tree once for its bounding box. A node the box takes
+//! whole, any group in it takes whole too; a node every box within it must
+//! open, every group opens; a leaf reached through such nodes, every group
+//! sums one by one. Those are shared ([`RegionShare`]). Sources of the
 //! leaves the region opens that lie beyond [`local_reach`] of its center
 //! go to the region's local expansion (`gravity_local`), summed once for
-//! all its bodies instead of once per body.
+//! all its bodies instead of once per body; a node wholly beyond that
+//! reach that the region does not take whole, it opens for its groups.
+//! Then each group walks only the nodes left in between, which some
+//! groups may take whole and others not: the rest of its lists are the
+//! ones its own walk of the whole tree would give. Both halves are split
+//! among threads in small chunks, since their cost varies.
 
 use std::ops::Range;
 
@@ -37,17 +40,18 @@ fn local_reach(lo: DVec3, hi: DVec3, inverse_theta: f64) -> f64 {
     (hi - lo).length() * inverse_theta
 }
 
-/// What a region's walk shares with its groups.
+/// What a region's walk shares with its groups (see the module's
+/// documentation).
 #[derive(Clone, Debug, Default)]
-struct Shared {
+pub struct RegionShare {
     /// Runs of sources (leaf order) every group sums one by one.
     near: Vec<Range<usize>>,
     /// Nodes every group takes whole.
     far: Vec<u32>,
     /// Nodes whose subtrees each group walks itself.
     open: Vec<u32>,
-    /// The distant sources, relative to the region's center.
-    local: LocalSources,
+    /// The local expansion of the distant sources, if there are any.
+    local: Option<Local>,
 }
 
 /// Appends `range` to `runs`, joined to the last run if they touch.
@@ -59,57 +63,84 @@ fn push_run(runs: &mut Vec<Range<usize>>, range: Range<usize>) {
 }
 
 impl Octree {
-    /// Kernel: the acceleration of every source in the regions `regions`
-    /// (a range of region indices), in leaf order, with the opening angle
-    /// `theta` and softening `ε²` = `softening2`. Each source's sum depends
-    /// on its region and group alone, never on how the regions are split
-    /// among threads.
-    pub fn region_accelerations(&self, regions: Range<usize>, theta: f64, softening2: f64) -> Vec<Vec3> {
+    /// Kernel, first half: what the regions `regions` (a range of region
+    /// indices) share with their groups, with the opening angle `theta`
+    /// and softening `ε²` = `softening2`.
+    pub fn region_shares(&self, regions: Range<usize>, theta: f64, softening2: f64) -> Vec<RegionShare> {
         let inverse_theta = theta.recip();
-        let regions = &self.regions()[regions];
+        let mut distant = LocalSources::default();
+        self.regions()[regions]
+            .iter()
+            .map(|region| {
+                let members = region.run.sources.start as usize..region.run.sources.end as usize;
+                let (lo, hi) = bounds(&self.sources()[members]);
+                let mut share = RegionShare::default();
+                self.region_walk(lo, hi, inverse_theta, &mut share, &mut distant);
+                share.local = (!distant.is_empty()).then(|| Local {
+                    center: (lo + hi) * 0.5,
+                    expansion: LocalExpansion::of(&distant, softening2),
+                });
+                share
+            })
+            .collect()
+    }
+
+    /// Kernel, second half: the acceleration of every source in the groups
+    /// `groups` (a range of group indices), in leaf order, given `shares`,
+    /// every region's share, with the opening angle `theta` and softening
+    /// `ε²` = `softening2`. Each source's sum depends on its region and
+    /// group alone, never on how regions and groups are split among
+    /// threads.
+    pub fn group_accelerations(
+        &self,
+        groups: Range<usize>,
+        shares: &[RegionShare],
+        theta: f64,
+        softening2: f64,
+    ) -> Vec<Vec3> {
+        let inverse_theta = theta.recip();
         let (nodes, moments) = self.nodes();
-        let sources = self.sources();
-        let columns = self.columns();
-        let mut shared = Shared::default();
+        let (sources, columns) = (self.sources(), self.columns());
         let mut near = Vec::new();
         let mut lists = GroupLists::with_capacity(LIST_CAPACITY, LIST_CAPACITY / 4);
-        let mut out = Vec::with_capacity(regions.iter().map(|r| r.run.sources.len()).sum());
-        for region in regions {
-            let (lo, hi) = bounds(&sources[region.run.sources.start as usize..region.run.sources.end as usize]);
-            self.region_walk(lo, hi, inverse_theta, &mut shared);
-            let local = (!shared.local.is_empty()).then(|| Local {
-                center: (lo + hi) * 0.5,
-                expansion: LocalExpansion::of(&shared.local, softening2),
-            });
-            for group in &self.groups()[region.groups.start as usize..region.groups.end as usize] {
-                let members = &sources[group.start as usize..group.end as usize];
-                let (lo, hi) = bounds(members);
-                lists.clear((lo + hi) * 0.5, local);
-                for run in &shared.near {
-                    lists.push_near(columns, run.clone());
-                }
-                for &i in &shared.far {
-                    let (node, m) = (&nodes[i as usize], &moments[i as usize]);
-                    lists.push_far(node.com, m.gm, m.quad);
-                }
-                near.clear();
-                for &root in &shared.open {
-                    self.group_walk(root as usize, lo, hi, inverse_theta, &mut near, &mut lists);
-                }
-                for run in &near {
-                    lists.push_near(columns, run.clone());
-                }
-                lists.pad();
-                group_pulls(&lists, members, softening2, &mut out);
+        let mut out = Vec::with_capacity(self.groups()[groups.clone()].iter().map(|g| g.len()).sum());
+        for (group, &region) in self.groups()[groups.clone()].iter().zip(&self.group_regions()[groups]) {
+            let share = &shares[region as usize];
+            let members = &sources[group.start as usize..group.end as usize];
+            let (lo, hi) = bounds(members);
+            lists.clear((lo + hi) * 0.5, share.local);
+            for run in &share.near {
+                lists.push_near(columns, run.clone());
             }
+            for &i in &share.far {
+                let (node, m) = (&nodes[i as usize], &moments[i as usize]);
+                lists.push_far(node.com, m.gm, m.quad);
+            }
+            near.clear();
+            for &root in &share.open {
+                self.group_walk(root as usize, lo, hi, inverse_theta, &mut near, &mut lists);
+            }
+            for run in &near {
+                lists.push_near(columns, run.clone());
+            }
+            lists.pad();
+            group_pulls(&lists, members, softening2, &mut out);
         }
         out
     }
 
-    /// The region walk for the box `lo..=hi` into `shared` (see the
-    /// module's documentation).
-    fn region_walk(&self, lo: DVec3, hi: DVec3, inverse_theta: f64, shared: &mut Shared) {
-        let Shared { near, far, open, local } = shared;
+    /// The region walk for the box `lo..=hi` into `share`, the distant
+    /// sources into `distant` (see the module's documentation).
+    fn region_walk(
+        &self,
+        lo: DVec3,
+        hi: DVec3,
+        inverse_theta: f64,
+        share: &mut RegionShare,
+        distant: &mut LocalSources,
+    ) {
+        let RegionShare { near, far, open, .. } = share;
+        let local = distant;
         near.clear();
         far.clear();
         open.clear();
@@ -195,12 +226,16 @@ mod tests {
     fn walked(sources: &[GravitySource], theta: f64) -> Vec<Vec3> {
         let mut tree = Octree::default();
         tree.rebuild(sources);
-        let n = tree.region_count();
-        let cuts = [0, n / 7, n / 3, n / 3 + 1, n];
-        let mut out = vec![Vec3::ZERO; sources.len()];
-        let leaf_order = cuts
+        let cuts = |n: usize| [0, n / 7, n / 3, n / 3 + 1, n];
+        let shares: Vec<RegionShare> = cuts(tree.region_count())
             .windows(2)
-            .flat_map(|w| tree.region_accelerations(w[0]..w[1], theta, 1.0));
+            .flat_map(|w| tree.region_shares(w[0]..w[1], theta, 1.0))
+            .collect();
+        let mut out = vec![Vec3::ZERO; sources.len()];
+        let group_cuts = cuts(tree.group_count());
+        let leaf_order = group_cuts
+            .windows(2)
+            .flat_map(|w| tree.group_accelerations(w[0]..w[1], &shares, theta, 1.0));
         for (a, &k) in leaf_order.zip(tree.given_order()) {
             out[k as usize] = a;
         }
@@ -262,15 +297,15 @@ mod tests {
             .collect();
         let mut tree = Octree::default();
         tree.rebuild(&sources);
-        let mut shared = Shared::default();
+        let (mut share, mut distant) = (RegionShare::default(), LocalSources::default());
         let (lo, hi) = tree
             .regions()
             .iter()
             .map(|r| bounds(&tree.sources()[r.run.sources.start as usize..r.run.sources.end as usize]))
             .min_by(|a, b| (a.1 - a.0).length().total_cmp(&(b.1 - b.0).length()))
             .unwrap();
-        tree.region_walk(lo, hi, 2.0, &mut shared);
-        assert!(shared.local.len() > 500, "{} expanded", shared.local.len());
+        tree.region_walk(lo, hi, 2.0, &mut share, &mut distant);
+        assert!(distant.len() > 500, "{} expanded", distant.len());
         let e = errors(&sources, 0.5);
         let (median, p99) = (e[e.len() / 2], e[e.len() * 99 / 100]);
         eprintln!("clump and halo, θ = 0.5: median relative error {median:.2e}, 99th percentile {p99:.2e}");
