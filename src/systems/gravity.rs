@@ -160,8 +160,8 @@ pub fn prepare_pull<'a>(
 }
 
 /// The pull through the Barnes–Hut tree over `sources` (sorted by id):
-/// rebuilds the tree and computes every source's acceleration, the groups
-/// split among threads as `stage` says.
+/// rebuilds the tree and computes every source's acceleration, the region
+/// walks and then the groups split among threads as `stage` says.
 fn tree_pull<'a>(
     sources: &'a [GravitySource],
     theta: f64,

@@ -25,17 +25,20 @@ const _: () = assert!(
     "lists padded to LANES fill registers but for one half"
 );
 
-/// The `k`-th sixteen values of `column`; past its end, `fill`.
+/// Sixteen values in one register.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn load(column: &[f32], k: usize, fill: f32) -> __m512 {
-    let a: [f32; WIDE] = match column.get(k * WIDE..(k + 1) * WIDE) {
-        Some(whole) => whole.try_into().unwrap_or([fill; WIDE]),
-        None => std::array::from_fn(|l| column.get(k * WIDE + l).copied().unwrap_or(fill)),
-    };
+fn load(a: &[f32; WIDE]) -> __m512 {
     _mm512_set_ps(
         a[15], a[14], a[13], a[12], a[11], a[10], a[9], a[8], a[7], a[6], a[5], a[4], a[3], a[2], a[1], a[0],
     )
+}
+
+/// The values of `column` from `start` on, `fill` past its end.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn load_tail(column: &[f32], start: usize, fill: f32) -> __m512 {
+    load(&std::array::from_fn(|l| column.get(start + l).copied().unwrap_or(fill)))
 }
 
 /// `1/√s` in each slot: the 14-bit estimate and one Newton step,
@@ -137,6 +140,7 @@ fn block_sums<const B: usize, const N: usize>(
     p: [[__m512; 3]; B],
     term: impl Fn([__m512; N], [__m512; 3]) -> [__m512; 3],
 ) -> [Sums; B] {
+    let whole = columns.map(|c| c.as_chunks::<WIDE>().0);
     let chunks = columns[0].len().div_ceil(WIDE);
     let mut sums = [Sums::new(); B];
     let mut start = 0;
@@ -144,10 +148,12 @@ fn block_sums<const B: usize, const N: usize>(
         let end = (start + BLOCK).min(chunks);
         let mut block = [[_mm512_setzero_ps(); 3]; B];
         for k in start..end {
-            let mut values = [_mm512_setzero_ps(); N];
-            for ((v, column), fill) in values.iter_mut().zip(columns).zip(fill) {
-                *v = load(column, k, fill);
-            }
+            // Whole registers, then the last half of one (the lists are
+            // padded to 8).
+            let values: [__m512; N] = std::array::from_fn(|c| match whole[c].get(k) {
+                Some(chunk) => load(chunk),
+                None => load_tail(columns[c], k * WIDE, fill[c]),
+            });
             for (block, p) in block.iter_mut().zip(p) {
                 for (b, t) in block.iter_mut().zip(term(values, p)) {
                     *b = _mm512_add_ps(*b, t);

@@ -73,17 +73,17 @@ pub fn far_term(gm: f32, q: [f32; 6], r: [f32; 3], softening2: f32) -> [f32; 3] 
     ]
 }
 
-/// Sources as columns, as the near lists copy them: position (`f64`) and
-/// `G·m` (`f32`).
+/// The tree's sources in leaf order as columns, as the near lists copy
+/// them: position (`f64`) and `G·m` (`f32`).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct SourceColumns {
+pub struct LeafSources {
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
     gm: Vec<f32>,
 }
 
-impl SourceColumns {
+impl LeafSources {
     /// The columns of `sources`, reusing this one's memory.
     pub fn fill(&mut self, sources: &[GravitySource]) {
         self.x.clear();
@@ -137,7 +137,7 @@ impl GroupLists {
     }
 
     /// Appends the sources `range` of `sources` to sum one by one.
-    pub fn push_near(&mut self, sources: &SourceColumns, range: std::ops::Range<usize>) {
+    pub fn push_near(&mut self, sources: &LeafSources, range: std::ops::Range<usize>) {
         let c = self.center;
         let [x, y, z, gm] = &mut self.near;
         x.extend(sources.x[range.clone()].iter().map(|v| (v - c.x) as f32));
@@ -208,11 +208,16 @@ fn lane_sums(chunks: usize, term: impl Fn(usize) -> [f32; 3]) -> [[f64; LANES]; 
     sums
 }
 
+/// The sum of `LANES` lanes, pairwise in a fixed order.
+#[inline]
+pub(super) fn lane_total(l: [f64; LANES]) -> f64 {
+    ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]))
+}
+
 /// The sum of the lanes of each component, pairwise in a fixed order.
 #[inline]
 pub(super) fn lanes_total(a: [[f64; LANES]; 3]) -> DVec3 {
-    let total = |l: [f64; LANES]| ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]));
-    DVec3::new(total(a[0]), total(a[1]), total(a[2]))
+    DVec3::new(lane_total(a[0]), lane_total(a[1]), lane_total(a[2]))
 }
 
 /// The pull of the lists on a body at `p`, lane by lane: the near sum,
@@ -340,8 +345,8 @@ mod tests {
             .collect()
     }
 
-    fn columns(sources: &[GravitySource]) -> SourceColumns {
-        let mut columns = SourceColumns::default();
+    fn columns(sources: &[GravitySource]) -> LeafSources {
+        let mut columns = LeafSources::default();
         columns.fill(sources);
         columns
     }

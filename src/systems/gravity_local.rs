@@ -12,20 +12,19 @@
 //! - `J_ij = G·m·(3·u_i·u_j/r⁵ − δ_ij/r³)`,
 //! - `K_ijk = G·m·(15·u_i·u_j·u_k/r⁷ − 3·(δ_ij·u_k + δ_ik·u_j + δ_jk·u_i)/r⁵)`,
 //!
-//! `J` and `K` symmetric. The first term left out is of order `(|x|/r)³`
-//! of the source's pull.
+//! `J` and `K` symmetric. The terms left out are of order `(|x|/r)³` of
+//! the source's pull: along the line to the source they sum to `4·t³ +
+//! 5·t⁴ + …` of it, `t = |x|/r`.
 
 use bevy::math::DVec3;
 
-/// Sources summed side by side, so that the compiler can keep independent
-/// lanes in vector registers.
-const LANES: usize = 8;
+use super::gravity_columns::{LANES, lane_total};
 
 /// The symmetric `K`'s components, in this order.
 const K: usize = 10;
 
-/// A group's local expansion, `a(x) ≈ A + J·x + ½·K[x, x]` for `x` the
-/// offset from the group's center (see the module's documentation).
+/// A region's local expansion, `a(x) ≈ A + J·x + ½·K[x, x]` for `x` the
+/// offset from the region's center (see the module's documentation).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LocalExpansion {
     /// `A`: the pull at the center.
@@ -39,7 +38,9 @@ pub struct LocalExpansion {
 /// A local expansion about `center`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Local {
+    /// Where the series is taken about.
     pub center: DVec3,
+    /// The series.
     pub expansion: LocalExpansion,
 }
 
@@ -52,11 +53,13 @@ impl Local {
 }
 
 /// The sources of a local expansion as columns: position relative to the
-/// group's center (`f64`) and `G·m`, padded to a multiple of [`LANES`] with
-/// massless entries.
+/// region's center (`f64`) and `G·m`, padded to a multiple of [`LANES`]
+/// with massless entries.
 #[derive(Clone, Debug, Default)]
 pub struct LocalSources {
     columns: [Vec<f64>; 4],
+    /// Sources pushed (the padding not counted).
+    count: usize,
 }
 
 /// Padding: a massless source this far from the center adds exactly 0 to
@@ -67,11 +70,17 @@ impl LocalSources {
     /// Forgets the sources, keeping the memory.
     pub fn clear(&mut self) {
         self.columns.iter_mut().for_each(Vec::clear);
+        self.count = 0;
     }
 
     /// Adds a source `gm` at `u` from the center.
     #[inline]
     pub fn push(&mut self, u: DVec3, gm: f64) {
+        self.push_entry(u, gm);
+        self.count += 1;
+    }
+
+    fn push_entry(&mut self, u: DVec3, gm: f64) {
         let [x, y, z, g] = &mut self.columns;
         x.push(u.x);
         y.push(u.y);
@@ -82,8 +91,13 @@ impl LocalSources {
     /// Pads to a multiple of [`LANES`].
     pub fn pad(&mut self) {
         while !self.columns[3].len().is_multiple_of(LANES) {
-            self.push(DVec3::splat(PADDING), 0.0);
+            self.push_entry(DVec3::splat(PADDING), 0.0);
         }
+    }
+
+    /// Number of sources, the padding not counted.
+    pub fn count(&self) -> usize {
+        self.count
     }
 
     /// Number of sources, padding included.
@@ -153,7 +167,7 @@ impl LocalExpansion {
                 }
             }
         }
-        let c = sums.map(|l| ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7])));
+        let c = sums.map(lane_total);
         Self {
             a: DVec3::new(c[0], c[1], c[2]),
             j: [c[3], c[4], c[5], c[6], c[7], c[8]],

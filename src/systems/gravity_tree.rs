@@ -18,7 +18,7 @@ use bevy::math::DVec3;
 use bevy::prelude::*;
 
 use super::gravity::{GravitySource, add_pulls};
-use super::gravity_columns::{SourceColumns, far_term};
+use super::gravity_columns::{LeafSources, far_term};
 use crate::components::BodyId;
 use crate::execution::StageExecution;
 
@@ -128,14 +128,6 @@ pub(super) struct Run {
     pub(super) sources: std::ops::Range<u32>,
 }
 
-/// A region (see [`REGION_SIZE`]): its sibling nodes and sources, and the
-/// range of its groups in [`Octree::groups`].
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(super) struct Region {
-    pub(super) run: Run,
-    pub(super) groups: std::ops::Range<u32>,
-}
-
 /// An octree over gravity sources.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Octree {
@@ -143,12 +135,12 @@ pub struct Octree {
     /// The sources in leaf order.
     sources: Vec<GravitySource>,
     /// The same as columns.
-    columns: SourceColumns,
+    columns: LeafSources,
     /// For each source in leaf order, its index in the order given.
     given: Vec<u32>,
     /// The regions, runs of sibling nodes of at most [`REGION_SIZE`]
     /// sources, in leaf order (see [`collect`](Self::collect)).
-    regions: Vec<Region>,
+    regions: Vec<Run>,
     /// The groups, runs of sibling nodes of at most [`GROUP_SIZE`] sources
     /// within the regions, in leaf order; together they hold every source
     /// once.
@@ -446,18 +438,15 @@ impl Octree {
         };
         self.tree.moments[0] = moments;
         self.columns.fill(&self.sources);
-        let mut runs = Vec::new();
-        self.collect(0, REGION_SIZE, &mut runs);
+        let mut regions = std::mem::take(&mut self.regions);
+        self.collect(0, REGION_SIZE, &mut regions);
         let mut groups = Vec::new();
-        for run in runs {
-            let first = self.groups.len() as u32;
-            self.collect_siblings(run.nodes.clone(), GROUP_SIZE, &mut groups);
-            self.groups.extend(groups.drain(..).map(|g| g.sources));
-            let groups = first..self.groups.len() as u32;
-            self.group_regions
-                .extend(groups.clone().map(|_| self.regions.len() as u32));
-            self.regions.push(Region { run, groups });
+        for (index, region) in regions.iter().enumerate() {
+            self.collect_siblings(region.nodes.clone(), GROUP_SIZE, &mut groups);
+            self.groups.extend(groups.iter().map(|g| g.sources.clone()));
+            self.group_regions.extend(groups.drain(..).map(|_| index as u32));
         }
+        self.regions = regions;
     }
 
     /// The runs of at most `size` sources that the subtree of the node
@@ -560,12 +549,12 @@ impl Octree {
     }
 
     /// The sources in leaf order, as columns.
-    pub(super) fn columns(&self) -> &SourceColumns {
+    pub(super) fn columns(&self) -> &LeafSources {
         &self.columns
     }
 
     /// The regions, in leaf order.
-    pub(super) fn regions(&self) -> &[Region] {
+    pub(super) fn regions(&self) -> &[Run] {
         &self.regions
     }
 
@@ -602,8 +591,8 @@ pub(super) mod tests {
     use crate::rng::Rng;
     use crate::systems::acceleration_at;
 
-    /// A Plummer-like cluster: dense core, sparse halo, unequal masses.
-    /// A Plummer-like cluster of `count` sources, radius capped at 5 000.
+    /// A Plummer-like cluster of `count` sources (dense core, sparse halo,
+    /// unequal masses), radius capped at 5 000.
     pub(in crate::systems) fn cluster(count: usize, seed: u64) -> Vec<GravitySource> {
         let mut rng = Rng::new(seed);
         (0..count)
