@@ -69,13 +69,15 @@ fn gravity(c: &mut Criterion) {
 }
 
 /// Every body a source: the tree's pull (build and every source's
-/// acceleration, θ = 0.5) over a uniform cloud of 10 000 sources in a cube
-/// of edge 1000, as `benches/self_gravity.ron`.
+/// acceleration, θ = 0.5) over 10 000 sources: a uniform cloud in a cube
+/// of edge 1000, as `benches/self_gravity.ron`; and a clustered one, a
+/// dense core in a sparse halo out to 20 000 units, like the collapsed
+/// cluster of `scenarios/collapse.ron` (its halo's leaves are as big as
+/// their distance: the case the regions' local expansions are for).
 fn gravity_tree(c: &mut Criterion) {
-    let mut group = c.benchmark_group("kernel_gravity_tree");
     let count = 10_000;
     let mut rng = Rng::new(3);
-    let sources: Vec<GravitySource> = (0..count)
+    let uniform: Vec<GravitySource> = (0..count)
         .map(|i| GravitySource {
             id: BodyId(i as u64),
             position: DVec3::new(rng.symmetric(500.0), rng.symmetric(500.0), rng.symmetric(500.0))
@@ -84,17 +86,36 @@ fn gravity_tree(c: &mut Criterion) {
             gm: 6.674,
         })
         .collect();
+    let clustered: Vec<GravitySource> = (0..count)
+        .map(|i| {
+            let direction = DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0)).normalize_or_zero();
+            // Radius from 10 to 20 000, uniform in its logarithm: a density
+            // falling as r⁻³, the same number of sources in every octave.
+            let r = 10.0 * 2000f64.powf(rng.range(0.0, 1.0));
+            GravitySource {
+                id: BodyId(i as u64),
+                position: (direction * r).as_vec3().as_dvec3(),
+                gm: 6.674 * rng.range(0.5, 2.0),
+            }
+        })
+        .collect();
     let method = GravityMethod::Tree { theta: 0.5 };
-    for mode in MODES {
-        let exec = execution(mode);
-        let mut scratch = PullScratch::default();
-        group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
-            b.iter(|| {
-                prepare_pull(method, &sources, count, 1.0, &exec, &mut scratch);
-            })
-        });
+    for (name, sources) in [
+        ("kernel_gravity_tree", &uniform),
+        ("kernel_gravity_tree_clustered", &clustered),
+    ] {
+        let mut group = c.benchmark_group(name);
+        for mode in MODES {
+            let exec = execution(mode);
+            let mut scratch = PullScratch::default();
+            group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
+                b.iter(|| {
+                    prepare_pull(method, sources, count, 1.0, &exec, &mut scratch);
+                })
+            });
+        }
+        group.finish();
     }
-    group.finish();
 }
 
 fn sweep(c: &mut Criterion) {
