@@ -195,11 +195,13 @@ fn pulls<const B: usize>(lists: &GroupLists, at: [DVec3; B], softening2: f32) ->
 #[target_feature(enable = "avx512f")]
 pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
     let softening2 = softening2 as f32;
-    let mut pairs = members.chunks_exact(2);
-    for pair in &mut pairs {
-        out.extend(pulls(lists, [pair[0].position, pair[1].position], softening2).map(DVec3::as_vec3));
+    // Four bodies at a time share the loads (32 registers hold their sums).
+    let mut fours = members.chunks_exact(4);
+    for four in &mut fours {
+        let at: [DVec3; 4] = std::array::from_fn(|b| four[b].position);
+        out.extend(pulls(lists, at, softening2).map(DVec3::as_vec3));
     }
-    for s in pairs.remainder() {
+    for s in fours.remainder() {
         out.extend(pulls(lists, [s.position], softening2).map(DVec3::as_vec3));
     }
 }
