@@ -1,7 +1,7 @@
 //! The record of a run (`kessler headless ... --timeline FILE [--every
 //! K]`): a CSV row every K updates with the body count, what collisions
 //! did, and the totals the physics conserves. The window's HUD and panel
-//! show the same numbers ([`Totals`], [`CollisionStats`]). Written
+//! show the same numbers ([`Totals`], [`CollisionStats`](crate::systems::CollisionStats)). Written
 //! atomically, like the dump.
 
 use std::io::{self, Write};

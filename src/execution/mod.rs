@@ -23,7 +23,7 @@
 //!    only reads — never on which other items share its chunk.
 //! 2. **Reductions go through the ordered results.** A kernel that reduces
 //!    (counts, bounds, collected pairs) returns its chunk's part; the caller
-//!    combines the parts from [`Execution::map_chunks`] in the order given,
+//!    combines the parts from [`StageExecution::map_chunks`] in the order given,
 //!    which is input order. Floats are never summed across items inside a
 //!    chunk and then across chunks: that would round differently for every
 //!    cut. Exact reductions (min, max, counts, concatenation) are fine.

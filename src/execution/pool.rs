@@ -257,7 +257,7 @@ impl StageExecution<'_> {
         self.map_in(data, CHUNKS_PER_THREAD, kernel)
     }
 
-    /// Like [`map_chunks`](Self::map_chunks), in [`UNEVEN_CHUNKS_PER_THREAD`]
+    /// Like [`map_chunks`](Self::map_chunks), in `UNEVEN_CHUNKS_PER_THREAD`
     /// smaller chunks per thread: for items that cost unevenly and much
     /// each (the gravity tree's groups), so that no thread waits long for
     /// the last chunk.

@@ -229,7 +229,7 @@ impl Default for Template {
 }
 
 /// Defaults of omitted fields; the physics ones are
-/// [`SimulationSettings::DEFAULT`]'s.
+/// [`SimulationSettings::DEFAULT`](crate::resources::SimulationSettings::DEFAULT)'s.
 mod defaults {
     use crate::resources::SimulationSettings;
 

@@ -12,7 +12,7 @@ use super::grid::{GRID_SAMPLES, Grid, SampledBox};
 use super::ordering::{CellOrder, order_cells};
 use crate::execution::StageExecution;
 
-/// The sort stage's result: the grid, one [`FiledChunk`] per chunk of
+/// The sort stage's result: the grid, one `FiledChunk` per chunk of
 /// boxes in input order, and the sweep order of every cell in parts of
 /// contiguous cells (one of each when the stage ran whole). Its buffers are
 /// kept and reused by the next sort, so that a million boxes do not fault
