@@ -259,8 +259,8 @@ impl StageExecution<'_> {
 
     /// Like [`map_chunks`](Self::map_chunks), in `UNEVEN_CHUNKS_PER_THREAD`
     /// smaller chunks per thread: for items that cost unevenly and much
-    /// each (the gravity tree's groups), so that no thread waits long for
-    /// the last chunk.
+    /// each (the gravity tree's regions and groups), so that no thread
+    /// waits long for the last chunk.
     pub fn map_uneven_chunks<S, R, K>(&self, data: S, kernel: K) -> Vec<R>
     where
         S: Split,

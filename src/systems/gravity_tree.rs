@@ -120,6 +120,14 @@ pub const GROUP_SIZE: u32 = 64;
 /// tree for the region as a whole (`gravity_walk`).
 pub const REGION_SIZE: u32 = 256;
 
+/// What a walk ([`Octree::walk`]) comes to.
+pub(super) enum Step<'a> {
+    /// A leaf it opens: its sources are summed one by one.
+    Leaf(&'a Node),
+    /// A node it takes whole, and what the node pulls with.
+    Whole(&'a Node, &'a Moments),
+}
+
 /// A run of sibling nodes: the nodes `nodes` (from the first to the end
 /// of the last one's subtree) and their sources in leaf order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -513,16 +521,13 @@ impl Octree {
     /// opening angle `theta` and softening `ε²` = `softening2`.
     pub fn acceleration_at(&self, id: BodyId, position: Vec3, theta: f64, softening2: f64) -> Vec3 {
         let p = position.as_dvec3();
-        let inverse_theta = theta.recip();
         let mut a = DVec3::ZERO;
-        let mut i = 0;
-        while i < self.tree.nodes.len() {
-            let node = &self.tree.nodes[i];
-            if node.leaf {
-                add_pulls(&mut a, id, p, &self.sources[node.range()], softening2);
-                i = node.skip as usize;
-            } else if node.accepts(p, p, inverse_theta) {
-                let Moments { gm, quad } = self.tree.moments[i];
+        if self.is_empty() {
+            return Vec3::ZERO;
+        }
+        self.walk(0, p, p, theta.recip(), |step| match step {
+            Step::Leaf(node) => add_pulls(&mut a, id, p, &self.sources[node.range()], softening2),
+            Step::Whole(node, &Moments { gm, quad }) => {
                 let term = far_term(
                     gm as f32,
                     quad.map(|q| q as f32),
@@ -530,12 +535,37 @@ impl Octree {
                     softening2 as f32,
                 );
                 a += Vec3::from_array(term).as_dvec3();
+            }
+        });
+        a.as_vec3()
+    }
+
+    /// The Barnes–Hut walk of the subtree of the node `root` for the box
+    /// `lo..=hi` (a point when `lo == hi`), depth first: each node the box
+    /// takes whole ([`Node::accepts`]) and each leaf it opens, in turn, to
+    /// `visit`.
+    pub(super) fn walk<'a>(
+        &'a self,
+        root: usize,
+        lo: DVec3,
+        hi: DVec3,
+        inverse_theta: f64,
+        mut visit: impl FnMut(Step<'a>),
+    ) {
+        let Nodes { nodes, moments } = &self.tree;
+        let mut i = root;
+        while i < nodes[root].skip as usize {
+            let node = &nodes[i];
+            if node.leaf {
+                visit(Step::Leaf(node));
+                i = node.skip as usize;
+            } else if node.accepts(lo, hi, inverse_theta) {
+                visit(Step::Whole(node, &moments[i]));
                 i = node.skip as usize;
             } else {
                 i += 1;
             }
         }
-        a.as_vec3()
     }
 
     /// The nodes in depth-first order, and what each pulls with whole.

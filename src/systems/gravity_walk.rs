@@ -21,7 +21,7 @@ use bevy::math::{DVec3, Vec3};
 
 use super::gravity_columns::{GroupLists, group_pulls};
 use super::gravity_local::{Local, LocalExpansion, LocalSources};
-use super::gravity_tree::{Octree, bounds};
+use super::gravity_tree::{Octree, Step, bounds};
 
 /// Room a group's near list starts with (a uniform cloud's groups of 64 sum
 /// about 1 600 sources one by one, a shattered cluster's about 2 400); its
@@ -197,20 +197,10 @@ impl Octree {
         near: &mut Vec<Range<usize>>,
         lists: &mut GroupLists,
     ) {
-        let (nodes, moments) = self.nodes();
-        let mut i = root;
-        while i < nodes[root].skip as usize {
-            let node = &nodes[i];
-            if node.leaf {
-                push_run(near, node.range());
-                i = node.skip as usize;
-            } else if node.accepts(lo, hi, inverse_theta) {
-                lists.push_far(node.com, moments[i].gm, moments[i].quad);
-                i = node.skip as usize;
-            } else {
-                i += 1;
-            }
-        }
+        self.walk(root, lo, hi, inverse_theta, |step| match step {
+            Step::Leaf(node) => push_run(near, node.range()),
+            Step::Whole(node, m) => lists.push_far(node.com, m.gm, m.quad),
+        });
     }
 }
 
