@@ -239,6 +239,32 @@ fn shatters_below_the_size_floor_or_over_the_budget_bounce_and_are_counted() {
     }
 }
 
+/// A collapsing cluster with the default floor: 300 unit cubes that fall
+/// together and shatter in the crush. Every fragment keeps an edge of at
+/// least the floor (1), so the volume, which shattering keeps, bounds the
+/// count: at most 300·2³ bodies. The floor is what stops it: shatters are
+/// refused long before the budget matters.
+#[test]
+fn a_collapse_with_the_default_floor_stays_within_its_volume_bound() {
+    let mut s = sim("Scenario(softening: 1.0, gravity: Tree(theta: 0.5), generators: [
+        Cloud(count: 300, center: (0, 0, 0), half_size: (40, 40, 40), max_speed: 0.5,
+              body: (role: SourceAndAdopter)),
+    ])");
+    s.step(150);
+    let (bodies, stats) = (s.snapshot(), s.collision_stats());
+    assert!(stats.shatters_total > 100, "only {} shatters", stats.shatters_total);
+    assert!(stats.refused_total > 100, "only {} refused", stats.refused_total);
+    let edges = bodies.iter().map(|b| 2.0 * b.half_extents.min_element());
+    assert!(edges.fold(f32::INFINITY, f32::min) >= 1.0, "a fragment under the floor");
+    // Kept up to the rounding of each fragment's edge to f32.
+    let volume: f64 = bodies
+        .iter()
+        .map(|b| 8.0 * b.half_extents.as_dvec3().element_product())
+        .sum();
+    assert!((volume / 2400.0 - 1.0).abs() < 1e-5, "volume {volume}");
+    assert!(bodies.len() <= 2400, "{} bodies", bodies.len());
+}
+
 #[test]
 fn a_fast_impact_shatters_keeping_mass_volume_and_momentum() {
     let mut s = sim("Scenario(gravitational_constant: 0, shatter_fragments: 6, bodies: [

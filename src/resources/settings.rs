@@ -24,6 +24,8 @@ pub struct SimulationSettings {
     pub fragment_spread: f32,
     /// Edge length below which fragments are not made: a collision whose
     /// fragments would be smaller bounces instead. 0: no floor (the thesis).
+    /// Shattering keeps volume, so fragments never outnumber the
+    /// shattering bodies' volume over this edge cubed.
     pub min_fragment_size: f32,
     /// Most bodies there may be: a shatter that would exceed it bounces
     /// instead.
@@ -49,7 +51,7 @@ impl SimulationSettings {
         shatter_threshold: 3.0,
         shatter_fragments: 5,
         fragment_spread: 0.2,
-        min_fragment_size: 0.5,
+        min_fragment_size: 1.0,
         max_bodies: 1_000_000,
         seed: 1,
         gravity: true,
