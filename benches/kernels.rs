@@ -10,8 +10,8 @@ use kessler::execution::{Execution, ExecutionMode, SplitPolicy, available_thread
 use kessler::resources::GravityMethod;
 use kessler::rng::Rng;
 use kessler::systems::{
-    Aabb, ContactBody, GravitySource, Pull, PullScratch, SortedBoxes, fragments, gravity_kernel, prepare_pull, respond,
-    sweep_and_prune,
+    Aabb, ContactBody, GravitySource, Octree, Pull, PullScratch, SortedBoxes, fragments, gravity_kernel, prepare_pull,
+    respond, sweep_and_prune,
 };
 
 const COUNTS: [usize; 3] = [1_000, 10_000, 100_000];
@@ -118,6 +118,32 @@ fn gravity_tree(c: &mut Criterion) {
     }
 }
 
+/// The tree's build alone (sorting into octants, moments, regions and
+/// groups) over uniform clouds, as `benches/self_gravity.ron`'s (the same
+/// density at every count).
+fn gravity_tree_build(c: &mut Criterion) {
+    let mut group = c.benchmark_group("kernel_gravity_tree_build");
+    for count in COUNTS {
+        let mut rng = Rng::new(3);
+        let edge = 500.0 * (count as f64 / 10_000.0).cbrt();
+        let sources: Vec<GravitySource> = (0..count)
+            .map(|i| GravitySource {
+                id: BodyId(i as u64),
+                position: DVec3::new(rng.symmetric(edge), rng.symmetric(edge), rng.symmetric(edge)),
+                gm: 6.674,
+            })
+            .collect();
+        for mode in MODES {
+            let exec = execution(mode);
+            let mut tree = Octree::default();
+            group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
+                b.iter(|| tree.rebuild_split(&sources, exec.for_stage("gravity", count)))
+            });
+        }
+    }
+    group.finish();
+}
+
 fn sweep(c: &mut Criterion) {
     let mut group = c.benchmark_group("kernel_sweep_and_prune");
     for count in COUNTS {
@@ -214,5 +240,14 @@ fn dispatch(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, gravity, gravity_tree, sweep, response, shatter, dispatch);
+criterion_group!(
+    benches,
+    gravity,
+    gravity_tree,
+    gravity_tree_build,
+    sweep,
+    response,
+    shatter,
+    dispatch
+);
 criterion_main!(benches);

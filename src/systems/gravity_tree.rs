@@ -155,6 +155,25 @@ pub struct Octree {
     groups: Vec<std::ops::Range<u32>>,
     /// For each group, the index of its region.
     group_regions: Vec<u32>,
+    /// Buffers the build sorts in, kept so that a rebuild allocates nothing.
+    buffers: BuildBuffers,
+}
+
+/// What [`Octree::rebuild`] sorts the sources in: the items in the order
+/// given and then in leaf order, room to sort a node's items into octants,
+/// and each root octant's nodes. Scratch space, not part of the tree's
+/// value: trees compare equal whatever their buffers hold.
+#[derive(Clone, Debug, Default)]
+struct BuildBuffers {
+    items: Vec<Item>,
+    scratch: Vec<Item>,
+    pieces: Vec<Nodes>,
+}
+
+impl PartialEq for BuildBuffers {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 fn octant(p: DVec3, center: DVec3) -> usize {
@@ -172,13 +191,38 @@ pub(super) fn bounds<'a>(sources: impl IntoIterator<Item = &'a GravitySource>) -
 /// A source with its index in the order the tree was built from.
 type Item = (GravitySource, u32);
 
-/// A subtree built on its own: its nodes (indices from 0), its sources in
-/// leaf order and what they add up to.
-type Piece = (Nodes, Vec<Item>, Summary);
+/// The subtree of one of the root's octants, built on its own: its items
+/// (sorted into leaf order in place), as much room to sort them in, the
+/// nodes it builds (indices from 0), where its items start in leaf order,
+/// the octant's center and half edge, and, once built, what it adds up to.
+struct Piece<'a> {
+    items: &'a mut [Item],
+    scratch: &'a mut [Item],
+    nodes: &'a mut Nodes,
+    first: usize,
+    center: DVec3,
+    half: f64,
+    summary: Summary,
+}
+
+impl Piece<'_> {
+    /// Kernel: builds the piece's subtree (the root's child, at depth 1).
+    fn build(&mut self) {
+        self.summary = build(
+            self.nodes,
+            self.items,
+            self.scratch,
+            self.first,
+            self.center,
+            self.half,
+            1,
+        );
+    }
+}
 
 /// What a subtree adds up to: its sources' bounding box, total `G·m`,
 /// center of mass and quadrupole `Σ G·m·(3·x·xᵀ − |x|²·I)` about it.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Summary {
     lo: DVec3,
     hi: DVec3,
@@ -283,14 +327,31 @@ fn is_leaf(len: usize, depth: u32) -> bool {
     len <= LEAF_SIZE || depth >= MAX_DEPTH
 }
 
+/// Each octant of a node: its items' range (empty if it has none) and
+/// its center.
+type Octants = [(std::ops::Range<usize>, DVec3); 8];
+
 /// Sorts the items of a node centered at `center` into its octants
-/// (stably: within an octant they keep their order) and returns each
-/// non-empty octant's range in `items` and its center.
-fn octants(items: &mut [Item], center: DVec3, half: f64) -> Vec<(std::ops::Range<usize>, DVec3)> {
+/// (stably: within an octant they keep their order), using `scratch` (as
+/// long as `items`), and returns each octant's range in `items` and its
+/// center.
+fn octants(items: &mut [Item], scratch: &mut [Item], center: DVec3, half: f64) -> Octants {
+    scratch.copy_from_slice(items);
+    sort_into_octants(scratch.iter().copied(), items, center, half)
+}
+
+/// Places the items `given` (as many as `into` holds) into `into`, sorted
+/// into the octants of a node centered at `center` as [`octants`] does.
+fn sort_into_octants(
+    given: impl Iterator<Item = Item> + Clone,
+    into: &mut [Item],
+    center: DVec3,
+    half: f64,
+) -> Octants {
     // A counting sort: count each octant, then place every item after the
     // ones before it, in the order given.
     let mut counts = [0; 8];
-    for (s, _) in items.iter() {
+    for (s, _) in given.clone() {
         counts[octant(s.position, center)] += 1;
     }
     let mut next = [0; 8];
@@ -298,20 +359,16 @@ fn octants(items: &mut [Item], center: DVec3, half: f64) -> Vec<(std::ops::Range
         next[k] = next[k - 1] + counts[k - 1];
     }
     let starts = next;
-    let given = items.to_vec();
     for item in given {
         let k = octant(item.0.position, center);
-        items[next[k]] = item;
+        into[next[k]] = item;
         next[k] += 1;
     }
-    (0..8)
-        .filter(|&k| counts[k] > 0)
-        .map(|k| {
-            let sign = |bit: usize| if k & bit != 0 { 0.5 } else { -0.5 };
-            let range = starts[k]..starts[k] + counts[k];
-            (range, center + DVec3::new(sign(1), sign(2), sign(4)) * half)
-        })
-        .collect()
+    std::array::from_fn(|k| {
+        let sign = |bit: usize| if k & bit != 0 { 0.5 } else { -0.5 };
+        let range = starts[k]..starts[k] + counts[k];
+        (range, center + DVec3::new(sign(1), sign(2), sign(4)) * half)
+    })
 }
 
 /// Nodes and their moments, depth first.
@@ -333,33 +390,44 @@ impl Nodes {
     }
 
     /// Appends `other`'s nodes, their indices shifted past these.
-    fn append(&mut self, other: Nodes) {
+    fn append(&mut self, other: &Nodes) {
         let offset = self.nodes.len() as u32;
-        self.nodes.extend(other.nodes.into_iter().map(|n| Node {
+        self.nodes.extend(other.nodes.iter().map(|n| Node {
             skip: n.skip + offset,
-            ..n
+            ..*n
         }));
-        self.moments.extend(other.moments);
+        self.moments.extend_from_slice(&other.moments);
     }
 }
 
 /// Kernel: builds the subtree of `items` (the sources `first..` in leaf
-/// order) depth first into `nodes`, whose indices start at its length, and
-/// returns what it adds up to.
-fn build(nodes: &mut Nodes, items: &mut [Item], first: usize, center: DVec3, half: f64, depth: u32) -> Summary {
+/// order) depth first into `nodes`, whose indices start at its length,
+/// sorting `items` into leaf order (in `scratch`, as long) and returns what
+/// they add up to.
+fn build(
+    nodes: &mut Nodes,
+    items: &mut [Item],
+    scratch: &mut [Item],
+    first: usize,
+    center: DVec3,
+    half: f64,
+    depth: u32,
+) -> Summary {
     let index = nodes.nodes.len();
     nodes.push((Node::default(), Moments::default()));
     let summary = if is_leaf(items.len(), depth) {
         Summary::of(items)
     } else {
-        let parts: Vec<Summary> = octants(items, center, half)
-            .into_iter()
-            .map(|(range, child)| {
-                let start = range.start;
-                build(nodes, &mut items[range], first + start, child, half * 0.5, depth + 1)
-            })
-            .collect();
-        Summary::combine(&parts)
+        let mut parts = [Summary::default(); 8];
+        let mut count = 0;
+        for (range, child) in octants(items, scratch, center, half) {
+            if !range.is_empty() {
+                let (mine, room) = (&mut items[range.clone()], &mut scratch[range.clone()]);
+                parts[count] = build(nodes, mine, room, first + range.start, child, half * 0.5, depth + 1);
+                count += 1;
+            }
+        }
+        Summary::combine(&parts[..count])
     };
     let (node, moments) = node_of(&summary, first, items.len(), depth);
     nodes.nodes[index] = Node {
@@ -375,7 +443,7 @@ impl Octree {
     /// order of every sum), reusing this tree's buffers; built on this
     /// thread.
     pub fn rebuild(&mut self, sources: &[GravitySource]) {
-        self.rebuild_with(sources, |piece, count| (0..count).map(piece).collect());
+        self.rebuild_with(sources, |pieces| pieces.iter_mut().for_each(Piece::build));
     }
 
     /// [`rebuild`](Self::rebuild) with the root's octants built in
@@ -383,24 +451,14 @@ impl Octree {
     /// octant's subtree is built the same way wherever it is built, and
     /// the pieces are joined in octant order).
     pub fn rebuild_split(&mut self, sources: &[GravitySource], stage: StageExecution<'_>) {
-        self.rebuild_with(sources, |piece, count| {
-            stage
-                .map_chunks(0..count, |octants: std::ops::Range<usize>| {
-                    octants.map(&piece).collect::<Vec<Piece>>()
-                })
-                .into_iter()
-                .flatten()
-                .collect()
+        self.rebuild_with(sources, |pieces| {
+            stage.for_chunks(pieces, |chunk: &mut [Piece]| chunk.iter_mut().for_each(Piece::build));
         });
     }
 
     /// The tree over `sources`: the root here, the subtrees of its octants
-    /// by `pieces` (given how to build the k-th and how many there are).
-    fn rebuild_with(
-        &mut self,
-        sources: &[GravitySource],
-        pieces: impl FnOnce(&(dyn Fn(usize) -> Piece + Sync), usize) -> Vec<Piece>,
-    ) {
+    /// by `build_pieces`.
+    fn rebuild_with(&mut self, sources: &[GravitySource], build_pieces: impl FnOnce(&mut [Piece])) {
         self.tree.clear();
         self.regions.clear();
         self.groups.clear();
@@ -414,31 +472,51 @@ impl Octree {
         let (lo, hi) = bounds(sources);
         let center = (lo + hi) * 0.5;
         let half = ((hi - lo).max_element() * 0.5).max(f64::MIN_POSITIVE);
-        let mut items: Vec<Item> = sources.iter().copied().zip(0..).collect();
+        let BuildBuffers {
+            items,
+            scratch,
+            pieces: piece_nodes,
+        } = &mut self.buffers;
+        // Sized without copying (only growing writes): the sort fills them.
+        let (count, blank) = (sources.len(), (sources[0], 0));
+        items.resize(count, blank);
+        scratch.resize(count, blank);
+        let given = sources.iter().copied().zip(0..);
         self.tree.push((Node::default(), Moments::default()));
-        let summary = if is_leaf(items.len(), 0) {
-            self.sources.extend(items.iter().map(|(s, _)| *s));
-            self.given.extend(items.iter().map(|(_, k)| *k));
-            Summary::of(&items)
+        let summary = if is_leaf(count, 0) {
+            items.iter_mut().zip(given).for_each(|(item, source)| *item = source);
+            Summary::of(items)
         } else {
-            let children = octants(&mut items, center, half);
-            let items = &items;
-            let piece = |k: usize| -> Piece {
-                let (range, child) = &children[k];
-                let mut mine = items[range.clone()].to_vec();
-                let mut nodes = Nodes::default();
-                let summary = build(&mut nodes, &mut mine, range.start, *child, half * 0.5, 1);
-                (nodes, mine, summary)
-            };
-            let mut parts = Vec::with_capacity(children.len());
-            for (nodes, mine, summary) in pieces(&piece, children.len()) {
-                self.tree.append(nodes);
-                self.sources.extend(mine.iter().map(|(s, _)| *s));
-                self.given.extend(mine.iter().map(|(_, k)| *k));
-                parts.push(summary);
+            let children = sort_into_octants(given, items, center, half);
+            piece_nodes.resize_with(children.len(), Nodes::default);
+            let (mut items, mut scratch) = (&mut items[..], &mut scratch[..]);
+            let mut pieces = Vec::with_capacity(children.len());
+            for ((range, child), nodes) in children.into_iter().zip(piece_nodes.iter_mut()) {
+                let (mine, rest) = std::mem::take(&mut items).split_at_mut(range.len());
+                let (room, spare) = std::mem::take(&mut scratch).split_at_mut(range.len());
+                (items, scratch) = (rest, spare);
+                nodes.clear();
+                if !range.is_empty() {
+                    pieces.push(Piece {
+                        items: mine,
+                        scratch: room,
+                        nodes,
+                        first: range.start,
+                        center: child,
+                        half: half * 0.5,
+                        summary: Summary::default(),
+                    });
+                }
             }
+            build_pieces(&mut pieces);
+            for piece in &pieces {
+                self.tree.append(piece.nodes);
+            }
+            let parts: Vec<Summary> = pieces.iter().map(|p| p.summary).collect();
             Summary::combine(&parts)
         };
+        self.sources.extend(self.buffers.items.iter().map(|(s, _)| *s));
+        self.given.extend(self.buffers.items.iter().map(|(_, k)| *k));
         let (root, moments) = node_of(&summary, 0, sources.len(), 0);
         self.tree.nodes[0] = Node {
             skip: self.tree.nodes.len() as u32,
