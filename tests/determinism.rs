@@ -80,11 +80,33 @@ fn large_adopter_field_is_bit_identical_in_both_modes() {
 /// same fragments.
 #[test]
 fn the_gravity_tree_is_bit_identical_with_shattering() {
-    let text = "Scenario(softening: 1.0, gravity: Tree(theta: 0.5), generators: [
-        Cloud(count: 300, center: (0, 0, 0), half_size: (40, 40, 40), max_speed: 0.5,
+    let bodies = collapse_is_bit_identical("gravity: Tree(theta: 0.5),", 300);
+    // Each shatter of a pair into five adds three bodies.
+    assert!(bodies > 300 + 3 * 50, "only {bodies} bodies: few shatters");
+}
+
+/// The same with the default gravity, `Auto`: 400 cubes summed directly
+/// until their fragments pass 512, then through the tree.
+#[test]
+fn auto_gravity_is_bit_identical_as_it_moves_to_the_tree() {
+    let bodies = collapse_is_bit_identical("", 400);
+    assert!(
+        bodies >= kessler::resources::AUTO_TREE_FROM,
+        "{bodies} bodies: never moved"
+    );
+}
+
+/// Runs a collapse of `count` cubes with the `gravity` setting given for
+/// 40 updates in every mode, checks that they agree, and returns the
+/// number of bodies at the end.
+fn collapse_is_bit_identical(gravity: &str, count: usize) -> usize {
+    let text = format!(
+        "Scenario(softening: 1.0, {gravity} generators: [
+        Cloud(count: {count}, center: (0, 0, 0), half_size: (40, 40, 40), max_speed: 0.5,
               body: (role: SourceAndAdopter)),
-    ])";
-    let scenario = Scenario::parse(text, "test").unwrap();
+    ])"
+    );
+    let scenario = Scenario::parse(&text, "test").unwrap();
     let run = |mode, threads| {
         let execution = Execution::new(mode, threads).unwrap();
         let execution = if mode == ExecutionMode::Parallel {
@@ -104,4 +126,5 @@ fn the_gravity_tree_is_bit_identical_with_shattering() {
         assert_eq!(ids(&sequential), ids(&parallel), "{threads} threads: other fragments");
         assert!(bits(&sequential) == bits(&parallel), "{threads} threads differ");
     }
+    sequential.len()
 }

@@ -47,9 +47,10 @@ pub enum Command {
         /// Split policy of runs that set none.
         #[arg(long, value_name = "auto|always|N", default_value_t = SplitPolicy::Auto, allow_negative_numbers = true)]
         split: SplitPolicy,
-        /// How gravity is summed in every run: `direct`, or `tree` /
-        /// `tree:THETA` (Barnes–Hut) [default: the scenario's].
-        #[arg(long, value_name = "direct|tree[:THETA]")]
+        /// How gravity is summed in every run: `auto` (`direct` below 512
+        /// sources, else `tree`), `direct`, or `tree` / `tree:THETA`
+        /// (Barnes–Hut) [default: the scenario's].
+        #[arg(long, value_name = "auto|direct|tree[:THETA]")]
         gravity: Option<GravityMethod>,
     },
     /// Measure from which body count each stage pays for splitting its work
@@ -214,9 +215,10 @@ pub struct HeadlessArgs {
     /// the settings; running on from it continues this run exactly.
     #[arg(long, value_name = "FILE")]
     pub save_scenario: Option<PathBuf>,
-    /// How gravity is summed: `direct`, or `tree` / `tree:THETA` (Barnes–Hut)
-    /// [default: the scenario's].
-    #[arg(long, value_name = "direct|tree[:THETA]")]
+    /// How gravity is summed: `auto` (`direct` below 512 sources, else
+    /// `tree`), `direct`, or `tree` / `tree:THETA` (Barnes–Hut) [default: the
+    /// scenario's].
+    #[arg(long, value_name = "auto|direct|tree[:THETA]")]
     pub gravity: Option<GravityMethod>,
     /// Write a row every K updates (`--every`) as CSV
     /// (`update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z`).

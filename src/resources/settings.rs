@@ -47,7 +47,7 @@ impl SimulationSettings {
         gravitational_constant: 6.674,
         time_step: 1.0,
         softening: 0.0,
-        gravity_method: GravityMethod::Direct,
+        gravity_method: GravityMethod::Auto,
         shatter_threshold: 3.0,
         shatter_fragments: 5,
         fragment_spread: 0.2,

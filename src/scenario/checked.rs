@@ -102,11 +102,14 @@ pub fn shatter_fragments<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Erro
     whole_between(d, "shatter_fragments", 2, MAX_FRAGMENTS)
 }
 
-/// `gravity`: `Direct`, or `Tree(theta: θ)` with θ from 0 to
+/// `gravity`: `Auto`, `Direct`, or `Tree(theta: θ)` with θ from 0 to
 /// [`MAX_THETA`](crate::resources::MAX_THETA).
 pub fn gravity<'de, D: Deserializer<'de>>(d: D) -> Result<GravityMethod, D::Error> {
-    let method = GravityMethod::deserialize(d)
-        .map_err(|e| D::Error::custom(format!("field `gravity`: {e} (write `Direct` or `Tree(theta: 0.5)`)")))?;
+    let method = GravityMethod::deserialize(d).map_err(|e| {
+        D::Error::custom(format!(
+            "field `gravity`: {e} (write `Auto`, `Direct` or `Tree(theta: 0.5)`)"
+        ))
+    })?;
     method
         .check()
         .map_err(|problem| D::Error::custom(format!("field `gravity`: {problem}")))

@@ -29,7 +29,9 @@ pub struct Scenario {
     /// Gravity's softening length `ε`; default 0.
     #[serde(default = "defaults::softening", deserialize_with = "checked::softening")]
     pub softening: f32,
-    /// `Direct` (default: every source for every adopter) or
+    /// `Auto` (default: `Direct` below
+    /// [`AUTO_TREE_FROM`](crate::resources::AUTO_TREE_FROM) sources, else
+    /// `Tree(theta: 0.5)`), `Direct` (every source for every adopter) or
     /// `Tree(theta: 0.5)` (Barnes–Hut, for thousands of sources).
     #[serde(default, deserialize_with = "checked::gravity")]
     pub gravity: GravityMethod,

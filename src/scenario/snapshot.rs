@@ -62,6 +62,7 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
     writeln!(out, "    time_step: {:?},", s.time_step)?;
     writeln!(out, "    softening: {:?},", s.softening)?;
     match s.gravity_method {
+        GravityMethod::Auto => writeln!(out, "    gravity: Auto,")?,
         GravityMethod::Direct => writeln!(out, "    gravity: Direct,")?,
         GravityMethod::Tree { theta } => writeln!(out, "    gravity: Tree(theta: {theta:?}),")?,
     }

@@ -42,13 +42,23 @@ pub struct GravityPlugin;
 
 impl Plugin for GravityPlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(
+        app.init_resource::<GravityInUse>().add_systems(
             SimulationUpdate,
             apply_gravity
                 .in_set(SimulationSystems::Gravity)
                 .run_if(|s: Res<SimulationSettings>| s.gravity),
         );
     }
+}
+
+/// How the last gravity stage summed, for the HUD: the method it used
+/// (`Auto` decided) and over how many sources.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+pub struct GravityInUse {
+    /// `Direct` or `Tree`.
+    pub method: GravityMethod,
+    /// Sources summed.
+    pub sources: usize,
 }
 
 /// Acceleration of the body `id` at `position` due to `sources`.
@@ -132,7 +142,8 @@ pub struct PullScratch {
     accelerations: Vec<Vec3>,
 }
 
-/// The gravity stage's pull as `method` asks for it, over `sources`
+/// The gravity stage's pull as `method` asks for it (`Auto` decided by
+/// the number of sources, [`GravityMethod::resolve`]), over `sources`
 /// (sorted by id) for `bodies` bodies, and the stage's execution: split as
 /// the policy says for the stage's work, weighed in pulls (bodies ×
 /// sources, or × about 1 000 through the tree), the unit its calibration
@@ -146,15 +157,16 @@ pub fn prepare_pull<'a>(
     execution: &'a Execution,
     scratch: &'a mut PullScratch,
 ) -> (Pull<'a>, StageExecution<'a>) {
+    let method = method.resolve(sources.len());
     let pulls_per_body = match method {
-        GravityMethod::Direct => sources.len(),
         GravityMethod::Tree { .. } => sources.len().min(TREE_PULLS_PER_BODY),
+        _ => sources.len(),
     };
     let work = bodies.saturating_mul(pulls_per_body.max(1));
     let stage = execution.for_stage(SimulationSystems::Gravity.name(), work);
     let pull = match method {
-        GravityMethod::Direct => Pull::Direct(sources),
         GravityMethod::Tree { theta } => tree_pull(sources, f64::from(theta), softening2, stage, scratch),
+        _ => Pull::Direct(sources),
     };
     (pull, stage)
 }
@@ -265,6 +277,7 @@ fn apply_gravity(
     settings: Res<SimulationSettings>,
     execution: Res<Execution>,
     mut timings: ResMut<StageTimings>,
+    mut in_use: ResMut<GravityInUse>,
     mut scratch: Local<GravityScratch>,
     all: Query<(&BodyId, &Position, &Mass, &GravityRole)>,
     mut bodies: Query<(&BodyId, &Position, &GravityRole, &mut Velocity)>,
@@ -273,6 +286,10 @@ fn apply_gravity(
     let all = all.contiguous_iter().expect("body components are table-stored");
     let GravityScratch { sources, pull } = &mut *scratch;
     collect_sources(all, f64::from(settings.gravitational_constant), sources);
+    in_use.set_if_neq(GravityInUse {
+        method: settings.gravity_method.resolve(sources.len()),
+        sources: sources.len(),
+    });
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
     let (pull, stage) = prepare_pull(
         settings.gravity_method,
@@ -351,5 +368,42 @@ mod tests {
         let vx: Vec<f32> = velocities.iter().map(|v| v.0.x).collect();
         assert_eq!(vx, [0.5, 1.0, 1.0, 0.5]);
         assert!(velocities.iter().all(|v| v.0.yz() == Vec2::ONE));
+    }
+
+    /// `Auto` sums a few sources directly, exactly as `Direct` does, and
+    /// from [`AUTO_TREE_FROM`](crate::resources::AUTO_TREE_FROM) on through
+    /// the tree, exactly as `Tree(0.5)` does.
+    #[test]
+    fn auto_pulls_as_direct_below_the_count_and_as_the_tree_from_it() {
+        use crate::execution::ExecutionMode;
+        use crate::resources::AUTO_TREE_FROM;
+        let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
+        let cloud = |count: usize| -> Vec<GravitySource> {
+            let mut rng = crate::rng::Rng::new(5);
+            (0..count as u64)
+                .map(|i| source(i, [0; 3].map(|_| rng.symmetric(100.0)), 1.0))
+                .collect()
+        };
+        // Whether the pull is the direct sum, and every source's pull.
+        let pulls = |method: GravityMethod, sources: &[GravitySource]| -> (bool, Vec<Vec3>) {
+            let mut scratch = PullScratch::default();
+            let (pull, _) = prepare_pull(method, sources, sources.len(), 1.0, &execution, &mut scratch);
+            let direct = matches!(pull, Pull::Direct(_));
+            (
+                direct,
+                sources
+                    .iter()
+                    .map(|s| pull.at(s.id, s.position.as_vec3(), 1.0))
+                    .collect(),
+            )
+        };
+        let few = cloud(AUTO_TREE_FROM - 1);
+        let (direct, auto) = pulls(GravityMethod::Auto, &few);
+        assert!(direct);
+        assert_eq!(auto, pulls(GravityMethod::Direct, &few).1);
+        let many = cloud(AUTO_TREE_FROM);
+        let (direct, auto) = pulls(GravityMethod::Auto, &many);
+        assert!(!direct);
+        assert_eq!(auto, pulls(GravityMethod::Tree { theta: 0.5 }, &many).1);
     }
 }

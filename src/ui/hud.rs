@@ -12,7 +12,8 @@ use super::sets::SandboxSystems;
 use super::settings::SandboxSettings;
 use super::settings_file::SettingsFile;
 use crate::components::BodyId;
-use crate::systems::{CollisionStats, STAGES, StageTimings, Timing};
+use crate::resources::GravityMethod;
+use crate::systems::{CollisionStats, GravityInUse, STAGES, StageTimings, Timing};
 
 /// The HUD window at the top right.
 pub struct HudPlugin;
@@ -40,6 +41,7 @@ fn hud(
     state: Res<SandboxState>,
     file: Res<SettingsFile>,
     cascade: Res<Cascade>,
+    gravity: Res<GravityInUse>,
     bodies: Query<(), With<BodyId>>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
@@ -71,6 +73,7 @@ fn hud(
                     collisions.refused_shatters, collisions.refused_total
                 ));
             }
+            ui.label(gravity_line(&gravity, settings.gravity_method));
             ui.separator();
             stage_table(ui, &timings);
             stage_plot(ui, &stats);
@@ -82,6 +85,16 @@ fn hud(
             }
         });
     Ok(())
+}
+
+/// How gravity was summed in the last update, and whether `Auto` chose it.
+fn gravity_line(in_use: &GravityInUse, chosen: GravityMethod) -> String {
+    let method = match in_use.method {
+        GravityMethod::Tree { theta } => format!("tree θ {theta}"),
+        _ => "direct sum".to_owned(),
+    };
+    let auto = if chosen == GravityMethod::Auto { " (auto)" } else { "" };
+    format!("gravity: {method}{auto}, {} sources", in_use.sources)
 }
 
 /// Last and mean time of each stage and of the whole update, in the
@@ -137,4 +150,29 @@ fn stage_plot(ui: &mut egui::Ui, stats: &FrameStats) {
         egui::FontId::monospace(10.0),
         egui::Color32::LIGHT_GRAY,
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_gravity_line_says_what_was_used_and_whether_auto_chose_it() {
+        let tree = GravityInUse {
+            method: GravityMethod::Tree { theta: 0.5 },
+            sources: 1834,
+        };
+        assert_eq!(
+            gravity_line(&tree, GravityMethod::Auto),
+            "gravity: tree θ 0.5 (auto), 1834 sources"
+        );
+        let direct = GravityInUse {
+            method: GravityMethod::Direct,
+            sources: 2,
+        };
+        assert_eq!(
+            gravity_line(&direct, GravityMethod::Direct),
+            "gravity: direct sum, 2 sources"
+        );
+    }
 }

@@ -19,7 +19,7 @@ use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy};
-use crate::resources::{DEFAULT_THETA, GravityMethod};
+use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, GravityMethod};
 use crate::rng::Rng;
 
 /// Folder the scenario picker lists.
@@ -185,15 +185,25 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     ui.label("Stages");
     ui.checkbox(&mut settings.gravity, "gravity");
     ui.horizontal(|ui| {
-        let direct = settings.gravity_method == GravityMethod::Direct;
-        if ui.radio(direct, "direct sum").clicked() {
+        let method = settings.gravity_method;
+        if ui
+            .radio(method == GravityMethod::Auto, "auto")
+            .on_hover_text(format!(
+                "the direct sum below {AUTO_TREE_FROM} sources, else the tree at θ {DEFAULT_THETA}"
+            ))
+            .clicked()
+        {
+            settings.gravity_method = GravityMethod::Auto;
+        }
+        if ui.radio(method == GravityMethod::Direct, "direct sum").clicked() {
             settings.gravity_method = GravityMethod::Direct;
         }
+        let tree = matches!(method, GravityMethod::Tree { .. });
         if ui
-            .radio(!direct, "tree")
+            .radio(tree, "tree")
             .on_hover_text("Barnes–Hut: for thousands of sources")
             .clicked()
-            && direct
+            && !tree
         {
             settings.gravity_method = GravityMethod::Tree { theta: DEFAULT_THETA };
         }

@@ -307,7 +307,7 @@ impl SandboxSettings {
         fixes.check(
             "gravity_method",
             &mut self.gravity_method,
-            &format!("Direct, or Tree with theta from 0 to {MAX_THETA:?}"),
+            &format!("Auto, Direct, or Tree with theta from 0 to {MAX_THETA:?}"),
             |method| {
                 method
                     .check()
