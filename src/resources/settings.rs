@@ -13,7 +13,8 @@ pub struct SimulationSettings {
     pub time_step: f32,
     /// Softening length `ε`: gravity uses `(r² + ε²)^{3/2}`; 0 means none.
     pub softening: f32,
-    /// Direct sum or Barnes–Hut tree.
+    /// Direct sum, Barnes–Hut tree, or `Auto` (the default): the one that
+    /// suits the number of sources.
     pub gravity_method: GravityMethod,
     /// Impact speed `|v1 − v2|` from which two interacting bodies shatter.
     pub shatter_threshold: f32,

@@ -51,14 +51,26 @@ impl Plugin for GravityPlugin {
     }
 }
 
-/// How the last gravity stage summed, for the HUD: the method it used
-/// (`Auto` decided) and over how many sources.
-#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+/// How the last gravity stage summed, for the HUD; before the first, no
+/// sources summed directly.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
 pub struct GravityInUse {
-    /// `Direct` or `Tree`.
+    /// The method used: `Direct` or `Tree`, never `Auto`.
     pub method: GravityMethod,
+    /// Whether `Auto` chose it.
+    pub auto: bool,
     /// Sources summed.
     pub sources: usize,
+}
+
+impl Default for GravityInUse {
+    fn default() -> Self {
+        Self {
+            method: GravityMethod::Direct,
+            auto: false,
+            sources: 0,
+        }
+    }
 }
 
 /// Acceleration of the body `id` at `position` due to `sources`.
@@ -157,16 +169,17 @@ pub fn prepare_pull<'a>(
     execution: &'a Execution,
     scratch: &'a mut PullScratch,
 ) -> (Pull<'a>, StageExecution<'a>) {
+    // Resolved: never `Auto`.
     let method = method.resolve(sources.len());
     let pulls_per_body = match method {
         GravityMethod::Tree { .. } => sources.len().min(TREE_PULLS_PER_BODY),
-        _ => sources.len(),
+        GravityMethod::Direct | GravityMethod::Auto => sources.len(),
     };
     let work = bodies.saturating_mul(pulls_per_body.max(1));
     let stage = execution.for_stage(SimulationSystems::Gravity.name(), work);
     let pull = match method {
         GravityMethod::Tree { theta } => tree_pull(sources, f64::from(theta), softening2, stage, scratch),
-        _ => Pull::Direct(sources),
+        GravityMethod::Direct | GravityMethod::Auto => Pull::Direct(sources),
     };
     (pull, stage)
 }
@@ -288,6 +301,7 @@ fn apply_gravity(
     collect_sources(all, f64::from(settings.gravitational_constant), sources);
     in_use.set_if_neq(GravityInUse {
         method: settings.gravity_method.resolve(sources.len()),
+        auto: settings.gravity_method == GravityMethod::Auto,
         sources: sources.len(),
     });
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);

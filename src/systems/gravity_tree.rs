@@ -155,7 +155,8 @@ pub struct Octree {
     groups: Vec<std::ops::Range<u32>>,
     /// For each group, the index of its region.
     group_regions: Vec<u32>,
-    /// Buffers the build sorts in, kept so that a rebuild allocates nothing.
+    /// Buffers the build sorts in, kept so that a rebuild allocates nothing
+    /// in proportion to the sources once their count stops growing.
     buffers: BuildBuffers,
 }
 
@@ -509,11 +510,12 @@ impl Octree {
                 }
             }
             build_pieces(&mut pieces);
-            for piece in &pieces {
+            let mut parts = [Summary::default(); 8];
+            for (part, piece) in parts.iter_mut().zip(&pieces) {
                 self.tree.append(piece.nodes);
+                *part = piece.summary;
             }
-            let parts: Vec<Summary> = pieces.iter().map(|p| p.summary).collect();
-            Summary::combine(&parts)
+            Summary::combine(&parts[..pieces.len()])
         };
         self.sources.extend(self.buffers.items.iter().map(|(s, _)| *s));
         self.given.extend(self.buffers.items.iter().map(|(_, k)| *k));
@@ -756,6 +758,26 @@ pub(super) mod tests {
         split.rebuild_split(&sources, execution.for_stage("test", sources.len()));
         assert!(whole.len() > 500);
         assert_eq!(split, whole);
+    }
+
+    /// A tree rebuilt over and over, its buffers reused at other counts
+    /// (fewer, a root that is a leaf, none, more again), is each time the
+    /// tree a fresh one builds, on one thread or split.
+    #[test]
+    fn a_rebuilt_tree_is_a_fresh_tree_whatever_its_buffers_held() {
+        use crate::execution::{Execution, ExecutionMode};
+        let execution = Execution::new(ExecutionMode::Parallel, 3).unwrap().fine_grained();
+        let (mut reused, mut reused_split) = (Octree::default(), Octree::default());
+        for (count, seed) in [(5000, 1), (300, 2), (5, 3), (0, 4), (7000, 5)] {
+            let sources = cluster(count, seed);
+            let mut fresh = Octree::default();
+            fresh.rebuild(&sources);
+            reused.rebuild(&sources);
+            reused_split.rebuild_split(&sources, execution.for_stage("test", count));
+            assert_eq!(reused, fresh, "{count} sources");
+            assert_eq!(reused_split, fresh, "{count} sources, split");
+            assert_eq!(fresh.given_order().len(), count);
+        }
     }
 
     #[test]

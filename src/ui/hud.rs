@@ -73,7 +73,11 @@ fn hud(
                     collisions.refused_shatters, collisions.refused_total
                 ));
             }
-            ui.label(gravity_line(&gravity, settings.gravity_method));
+            ui.label(if settings.gravity {
+                gravity_line(&gravity)
+            } else {
+                "gravity: off".to_owned()
+            });
             ui.separator();
             stage_table(ui, &timings);
             stage_plot(ui, &stats);
@@ -88,12 +92,12 @@ fn hud(
 }
 
 /// How gravity was summed in the last update, and whether `Auto` chose it.
-fn gravity_line(in_use: &GravityInUse, chosen: GravityMethod) -> String {
+fn gravity_line(in_use: &GravityInUse) -> String {
     let method = match in_use.method {
         GravityMethod::Tree { theta } => format!("tree θ {theta}"),
-        _ => "direct sum".to_owned(),
+        GravityMethod::Direct | GravityMethod::Auto => "direct sum".to_owned(),
     };
-    let auto = if chosen == GravityMethod::Auto { " (auto)" } else { "" };
+    let auto = if in_use.auto { " (auto)" } else { "" };
     format!("gravity: {method}{auto}, {} sources", in_use.sources)
 }
 
@@ -160,19 +164,15 @@ mod tests {
     fn the_gravity_line_says_what_was_used_and_whether_auto_chose_it() {
         let tree = GravityInUse {
             method: GravityMethod::Tree { theta: 0.5 },
+            auto: true,
             sources: 1834,
         };
-        assert_eq!(
-            gravity_line(&tree, GravityMethod::Auto),
-            "gravity: tree θ 0.5 (auto), 1834 sources"
-        );
+        assert_eq!(gravity_line(&tree), "gravity: tree θ 0.5 (auto), 1834 sources");
         let direct = GravityInUse {
             method: GravityMethod::Direct,
+            auto: false,
             sources: 2,
         };
-        assert_eq!(
-            gravity_line(&direct, GravityMethod::Direct),
-            "gravity: direct sum, 2 sources"
-        );
+        assert_eq!(gravity_line(&direct), "gravity: direct sum, 2 sources");
     }
 }

@@ -12,7 +12,7 @@ use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{NoGenerators, Scenario};
 use crate::simulation::spawn_bodies;
-use crate::systems::{CollisionStats, OverlappingPairs, SimulationFault, StageTimings};
+use crate::systems::{CollisionStats, GravityInUse, OverlappingPairs, SimulationFault, StageTimings};
 
 /// State of the sandbox beyond its settings.
 #[derive(Resource, Debug)]
@@ -153,6 +153,7 @@ pub fn restart_scene(world: &mut World) {
     world.insert_resource(NextBodyId(next));
     world.insert_resource(physics);
     *world.resource_mut::<CollisionStats>() = CollisionStats::default();
+    *world.resource_mut::<GravityInUse>() = GravityInUse::default();
     world.resource_mut::<SimulationFault>().clear();
     world.resource_mut::<OverlappingPairs>().0.clear();
     world.resource_mut::<StageTimings>().reset();

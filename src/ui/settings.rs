@@ -117,7 +117,8 @@ pub struct SandboxSettings {
     pub collision_response: bool,
     /// Gravity on/off (live).
     pub gravity: bool,
-    /// Direct sum or Barnes–Hut tree (live).
+    /// Direct sum, Barnes–Hut tree, or `Auto` by the number of sources
+    /// (live).
     pub gravity_method: GravityMethod,
     /// Target simulation updates per second, 1–600 (live).
     pub updates_per_second: u32,
