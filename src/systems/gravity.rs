@@ -128,6 +128,14 @@ pub enum Pull<'a> {
 }
 
 impl Pull<'_> {
+    /// The method this pull sums by: `Direct` or `Tree`.
+    pub fn method(&self) -> GravityMethod {
+        match *self {
+            Self::Direct(_) => GravityMethod::Direct,
+            Self::Tree { theta, .. } => GravityMethod::Tree { theta: theta as f32 },
+        }
+    }
+
     /// The acceleration of the body `id` at `position` (`ε²` = `softening2`).
     #[inline]
     pub fn at(&self, id: BodyId, position: Vec3, softening2: f64) -> Vec3 {
@@ -299,11 +307,6 @@ fn apply_gravity(
     let all = all.contiguous_iter().expect("body components are table-stored");
     let GravityScratch { sources, pull } = &mut *scratch;
     collect_sources(all, f64::from(settings.gravitational_constant), sources);
-    in_use.set_if_neq(GravityInUse {
-        method: settings.gravity_method.resolve(sources.len()),
-        auto: settings.gravity_method == GravityMethod::Auto,
-        sources: sources.len(),
-    });
     let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
     let (pull, stage) = prepare_pull(
         settings.gravity_method,
@@ -313,6 +316,11 @@ fn apply_gravity(
         &execution,
         pull,
     );
+    in_use.set_if_neq(GravityInUse {
+        method: pull.method(),
+        auto: settings.gravity_method == GravityMethod::Auto,
+        sources: sources.len(),
+    });
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     for (ids, positions, roles, mut velocities) in tables {
         let columns = (ids, positions, roles, velocities.bypass_change_detection());
@@ -398,26 +406,26 @@ mod tests {
                 .map(|i| source(i, [0; 3].map(|_| rng.symmetric(100.0)), 1.0))
                 .collect()
         };
-        // Whether the pull is the direct sum, and every source's pull.
-        let pulls = |method: GravityMethod, sources: &[GravitySource]| -> (bool, Vec<Vec3>) {
+        // The method the pull used, and every source's pull.
+        let pulls = |method: GravityMethod, sources: &[GravitySource]| -> (GravityMethod, Vec<Vec3>) {
             let mut scratch = PullScratch::default();
             let (pull, _) = prepare_pull(method, sources, sources.len(), 1.0, &execution, &mut scratch);
-            let direct = matches!(pull, Pull::Direct(_));
             (
-                direct,
+                pull.method(),
                 sources
                     .iter()
                     .map(|s| pull.at(s.id, s.position.as_vec3(), 1.0))
                     .collect(),
             )
         };
+        let tree = GravityMethod::Tree { theta: 0.5 };
         let few = cloud(AUTO_TREE_FROM - 1);
-        let (direct, auto) = pulls(GravityMethod::Auto, &few);
-        assert!(direct);
+        let (used, auto) = pulls(GravityMethod::Auto, &few);
+        assert_eq!(used, GravityMethod::Direct);
         assert_eq!(auto, pulls(GravityMethod::Direct, &few).1);
         let many = cloud(AUTO_TREE_FROM);
-        let (direct, auto) = pulls(GravityMethod::Auto, &many);
-        assert!(!direct);
-        assert_eq!(auto, pulls(GravityMethod::Tree { theta: 0.5 }, &many).1);
+        let (used, auto) = pulls(GravityMethod::Auto, &many);
+        assert_eq!(used, tree);
+        assert_eq!(auto, pulls(tree, &many).1);
     }
 }
