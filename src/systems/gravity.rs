@@ -139,6 +139,15 @@ impl Pull<'_> {
     /// The acceleration of the body `id` at `position` (`ε²` = `softening2`).
     #[inline]
     pub fn at(&self, id: BodyId, position: Vec3, softening2: f64) -> Vec3 {
+        self.at_after(id, position, softening2, &mut 0)
+    }
+
+    /// [`at`](Self::at) for bodies asked about in order: `next` is where
+    /// the previous body's source was, plus one, and becomes this body's.
+    /// Bodies are stored in about the order of their ids, so a source is
+    /// most often found there without a search.
+    #[inline]
+    pub fn at_after(&self, id: BodyId, position: Vec3, softening2: f64, next: &mut usize) -> Vec3 {
         match *self {
             Self::Direct(sources) => acceleration_at(id, position, sources, softening2),
             Self::Tree {
@@ -146,10 +155,19 @@ impl Pull<'_> {
                 theta,
                 sources,
                 accelerations,
-            } => match sources.binary_search_by_key(&id, |s| s.id) {
-                Ok(k) => accelerations[k],
-                Err(_) => tree.acceleration_at(id, position, theta, softening2),
-            },
+            } => {
+                let found = match sources.get(*next) {
+                    Some(s) if s.id == id => Ok(*next),
+                    _ => sources.binary_search_by_key(&id, |s| s.id),
+                };
+                match found {
+                    Ok(k) => {
+                        *next = k + 1;
+                        accelerations[k]
+                    }
+                    Err(_) => tree.acceleration_at(id, position, theta, softening2),
+                }
+            }
         }
     }
 }
@@ -217,9 +235,13 @@ fn tree_pull<'a>(
     });
     accelerations.clear();
     accelerations.resize(sources.len(), Vec3::ZERO);
-    let in_leaf_order: Vec<Vec3> = by_group.into_iter().flatten().collect();
-    debug_assert_eq!(in_leaf_order.len(), sources.len(), "every source is in one group");
-    for (a, &k) in in_leaf_order.into_iter().zip(tree.given_order()) {
+    let in_leaf_order = by_group.iter().flatten();
+    debug_assert_eq!(
+        in_leaf_order.clone().count(),
+        sources.len(),
+        "every source is in one group"
+    );
+    for (&a, &k) in in_leaf_order.zip(tree.given_order()) {
         accelerations[k as usize] = a;
     }
     Pull::Tree {
@@ -238,9 +260,10 @@ pub fn gravity_kernel(
     softening2: f64,
     dt: f32,
 ) {
+    let mut next = 0;
     for (((id, p), role), v) in ids.iter().zip(positions).zip(roles).zip(velocities) {
         if role.is_adopter() {
-            v.0 += pull.at(*id, p.0, softening2) * dt;
+            v.0 += pull.at_after(*id, p.0, softening2, &mut next) * dt;
         }
     }
 }
@@ -390,6 +413,47 @@ mod tests {
         let vx: Vec<f32> = velocities.iter().map(|v| v.0.x).collect();
         assert_eq!(vx, [0.5, 1.0, 1.0, 0.5]);
         assert!(velocities.iter().all(|v| v.0.yz() == Vec2::ONE));
+    }
+
+    /// The kick looks each body's source up after the previous body's: in
+    /// id order, shuffled, and with adopters that are no source among
+    /// them, every body gets the pull `at` gives it on its own.
+    #[test]
+    fn the_kick_finds_each_bodys_pull_in_any_order() {
+        use crate::execution::ExecutionMode;
+        let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
+        let mut rng = crate::rng::Rng::new(8);
+        // Sources have even ids; odd ids are adopters only.
+        let sources: Vec<GravitySource> = (0..600u64)
+            .map(|i| source(2 * i, [0; 3].map(|_| rng.symmetric(100.0)), 1.0))
+            .collect();
+        let mut scratch = PullScratch::default();
+        let tree = GravityMethod::Tree { theta: 0.5 };
+        let (pull, _) = prepare_pull(tree, &sources, 900, 1.0, &execution, &mut scratch);
+        let mut bodies: Vec<(BodyId, Vec3, GravityRole)> = sources
+            .iter()
+            .map(|s| (s.id, s.position.as_vec3(), GravityRole::SourceAndAdopter))
+            .chain((0..300u64).map(|i| {
+                let p = Vec3::new(rng.symmetric(100.0) as f32, 1.0, 2.0);
+                (BodyId(2 * i + 1), p, GravityRole::Adopter)
+            }))
+            .collect();
+        for order in 0..3 {
+            match order {
+                0 => bodies.sort_by_key(|b| b.0),
+                1 => bodies.reverse(),
+                _ => bodies.sort_by_key(|b| (b.0.0 * 7919) % 1201),
+            }
+            let ids: Vec<BodyId> = bodies.iter().map(|b| b.0).collect();
+            let positions: Vec<Position> = bodies.iter().map(|b| Position(b.1)).collect();
+            let roles: Vec<GravityRole> = bodies.iter().map(|b| b.2).collect();
+            let mut velocities = vec![Velocity(Vec3::ZERO); bodies.len()];
+            gravity_kernel((&ids, &positions, &roles, &mut velocities), pull, 1.0, 1.0);
+            for ((id, p, _), v) in bodies.iter().zip(&velocities) {
+                assert_eq!(v.0, pull.at(*id, *p, 1.0), "order {order}, body {id:?}");
+                assert_ne!(v.0, Vec3::ZERO);
+            }
+        }
     }
 
     /// `Auto` sums a few sources directly, exactly as `Direct` does, and

@@ -7,7 +7,7 @@
 
 use std::arch::x86_64::*;
 
-use bevy::math::{DVec3, Vec3};
+use bevy::math::DVec3;
 
 use super::gravity::GravitySource;
 use super::gravity_columns::{BLOCK, GroupLists, LANES, lanes_total};
@@ -181,18 +181,18 @@ fn pulls<const B: usize>(lists: &GroupLists, at: [DVec3; B], softening2: f32) ->
         let r = [_mm256_sub_ps(px, x), _mm256_sub_ps(py, y), _mm256_sub_ps(pz, z)];
         far_term(gm, q, r, softening2)
     });
-    std::array::from_fn(|b| lists.total(near_sums[b].total() + far_sums[b].total(), at[b]))
+    std::array::from_fn(|b| near_sums[b].total() + far_sums[b].total())
 }
 
 /// `gravity_columns::group_pulls` with AVX.
 #[target_feature(enable = "avx")]
-pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
+pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<DVec3>) {
     let softening2 = softening2 as f32;
     let mut pairs = members.chunks_exact(2);
     for pair in &mut pairs {
-        out.extend(pulls(lists, [pair[0].position, pair[1].position], softening2).map(DVec3::as_vec3));
+        out.extend(pulls(lists, [pair[0].position, pair[1].position], softening2));
     }
     for s in pairs.remainder() {
-        out.extend(pulls(lists, [s.position], softening2).map(DVec3::as_vec3));
+        out.extend(pulls(lists, [s.position], softening2));
     }
 }

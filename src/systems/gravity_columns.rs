@@ -17,10 +17,9 @@
 //! lane by lane in the same order, so the same bits), or lane by lane here.
 //! A processor always runs the same one, so sequential and parallel agree.
 
-use bevy::math::{DVec3, Vec3};
+use bevy::math::DVec3;
 
 use super::gravity::GravitySource;
-use super::gravity_local::Local;
 
 /// Partial sums per component: the `f32` slots of a 256-bit register.
 pub const LANES: usize = 8;
@@ -28,6 +27,13 @@ pub const LANES: usize = 8;
 /// Terms per lane summed in `f32` before the lane's partial sum is carried
 /// over into `f64`.
 pub const BLOCK: usize = 16;
+
+/// The lists are padded to a multiple of this many entries: whole 512-bit
+/// registers for the AVX-512 kernel, whole chunks of [`LANES`] for the
+/// others (the padding adds exactly nothing).
+pub const PAD_TO: usize = 16;
+
+const _: () = assert!(PAD_TO.is_multiple_of(LANES), "padded lists are whole chunks of LANES");
 
 /// Padding: a massless entry this far away adds exactly nothing (an
 /// infinite squared distance in `f32`, a finite distance from any position
@@ -97,17 +103,15 @@ impl LeafSources {
     }
 }
 
-/// What a group of bodies sums, as columns relative to the group's
-/// center, each padded with massless entries to a multiple of [`LANES`]:
+/// What a group of bodies sums, as columns relative to a center near
+/// them, each padded with massless entries to a multiple of [`PAD_TO`]:
 /// the sources it sums one by one (position, `G·m`) and the nodes it takes
-/// whole (center of mass, `G·m`, quadrupole); and its region's local
-/// expansion, if any (`gravity_local`).
+/// whole (center of mass, `G·m`, quadrupole).
 #[derive(Clone, Debug, Default)]
 pub struct GroupLists {
     pub(super) center: DVec3,
     pub(super) near: [Vec<f32>; 4],
     pub(super) far: [Vec<f32>; 10],
-    pub(super) local: Option<Local>,
 }
 
 impl GroupLists {
@@ -118,15 +122,13 @@ impl GroupLists {
             center: DVec3::ZERO,
             near: std::array::from_fn(|_| Vec::with_capacity(near)),
             far: std::array::from_fn(|_| Vec::with_capacity(far)),
-            local: None,
         }
     }
 
     /// Empties the lists, keeping their memory; positions are taken
-    /// relative to `center` from now on, and `local` adds its pull.
-    pub fn clear(&mut self, center: DVec3, local: Option<Local>) {
+    /// relative to `center` from now on.
+    pub fn clear(&mut self, center: DVec3) {
         self.center = center;
-        self.local = local;
         self.near.iter_mut().chain(&mut self.far).for_each(Vec::clear);
     }
 
@@ -156,25 +158,15 @@ impl GroupLists {
         }
     }
 
-    /// Pads both lists to a multiple of [`LANES`] with massless entries far
-    /// away (each list's first three columns are the position).
+    /// Pads both lists to a multiple of [`PAD_TO`] with massless entries
+    /// far away (each list's first three columns are the position).
     pub fn pad(&mut self) {
         for columns in [&mut self.near[..], &mut self.far[..]] {
-            while !columns[0].len().is_multiple_of(LANES) {
+            while !columns[0].len().is_multiple_of(PAD_TO) {
                 for (k, column) in columns.iter_mut().enumerate() {
                     column.push(if k < 3 { FAR_AWAY } else { 0.0 });
                 }
             }
-        }
-    }
-
-    /// A body's pull at `p` from its near and far sums `sums` and the
-    /// local expansion.
-    #[inline]
-    pub(super) fn total(&self, sums: DVec3, p: DVec3) -> DVec3 {
-        match &self.local {
-            Some(local) => sums + local.at(p),
-            None => sums,
         }
     }
 
@@ -234,16 +226,12 @@ fn pull_on(lists: &GroupLists, p: DVec3, softening2: f32) -> DVec3 {
         let quad = [q[0][i], q[1][i], q[2][i], q[3][i], q[4][i], q[5][i]];
         far_term(gm[i], quad, [px - x[i], py - y[i], pz - z[i]], softening2)
     });
-    lists.total(lanes_total(near) + lanes_total(far), p)
+    lanes_total(near) + lanes_total(far)
 }
 
 /// [`group_pulls`] lane by lane, on any processor.
-fn group_pulls_plain(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
-    out.extend(
-        members
-            .iter()
-            .map(|s| pull_on(lists, s.position, softening2 as f32).as_vec3()),
-    );
+fn group_pulls_plain(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<DVec3>) {
+    out.extend(members.iter().map(|s| pull_on(lists, s.position, softening2 as f32)));
 }
 
 /// A version of the group kernel, for one kind of processor.
@@ -297,7 +285,7 @@ impl Kernel {
     /// The pull of `lists` on each of `members`, appended to `out` (`ε²` =
     /// `softening2`); lane by lane where the processor lacks what the
     /// kernel needs.
-    pub fn run(self, lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
+    pub fn run(self, lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<DVec3>) {
         match self {
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx512 if self.supported() => {
@@ -324,7 +312,7 @@ impl Kernel {
 
 /// Kernel: the pull of `lists` on each of `members`, appended to `out`
 /// (`ε²` = `softening2`), with the [best](Kernel::best) kernel.
-pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<Vec3>) {
+pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<DVec3>) {
     Kernel::best().run(lists, members, softening2, out);
 }
 
@@ -334,6 +322,7 @@ mod tests {
     use crate::components::BodyId;
     use crate::rng::Rng;
     use crate::systems::add_pulls;
+    use bevy::math::Vec3;
 
     fn sources(count: u64) -> Vec<GravitySource> {
         (0..count)
@@ -355,7 +344,7 @@ mod tests {
     fn the_near_list_sums_what_the_sources_pull_skipping_the_body_itself() {
         let sources = sources(11);
         let mut lists = GroupLists::default();
-        lists.clear(DVec3::new(2.0, 1.0, -3.0), None);
+        lists.clear(DVec3::new(2.0, 1.0, -3.0));
         lists.push_near(&columns(&sources), 0..sources.len());
         lists.pad();
         let at = sources[3].position;
@@ -380,7 +369,7 @@ mod tests {
         assert!((got - expected).length() <= 1e-6 * expected.length(), "{got}");
         let q = [0.1, -0.2, 0.1, 0.0, 0.05, 0.0];
         let mut lists = GroupLists::default();
-        lists.clear(DVec3::ZERO, None);
+        lists.clear(DVec3::ZERO);
         lists.push_far(DVec3::new(10.0, 0.0, 0.0), 3.0, q);
         lists.pad();
         let one = Vec3::from_array(far_term(3.0, q.map(|q| q as f32), [-10.0, 0.0, 0.0], 1.0));
@@ -391,7 +380,7 @@ mod tests {
     /// Random lists longer than a block, with the body itself, sources on
     /// top of each other, softening 0 and distances beyond `f32`'s range:
     /// the pulls of each kernel the processor has, and lane by lane.
-    fn every_kernel(mut check: impl FnMut(Kernel, &[Vec3], &[Vec3], &[f64], usize)) {
+    fn every_kernel(mut check: impl FnMut(Kernel, &[DVec3], &[DVec3], &[f64], usize)) {
         let mut rng = Rng::new(9);
         for round in 0..24 {
             let count = 1 + round * 9;
@@ -408,7 +397,7 @@ mod tests {
             }
             let softening2 = if round % 2 == 0 { 0.0 } else { 0.3 };
             let mut lists = GroupLists::default();
-            lists.clear(DVec3::new(3.0, -20.0, 7.5), None);
+            lists.clear(DVec3::new(3.0, -20.0, 7.5));
             lists.push_near(&columns(&all), 0..all.len());
             let mut far = Vec::new();
             for s in &all {
@@ -447,15 +436,15 @@ mod tests {
         let mut tried = Vec::new();
         every_kernel(|kernel, plain, got, scale, round| {
             tried.push(kernel);
-            let bits = |v: &[Vec3]| {
+            let bits = |v: &[DVec3]| {
                 v.iter()
-                    .flat_map(|a| a.to_array().map(f32::to_bits))
+                    .flat_map(|a| a.to_array().map(f64::to_bits))
                     .collect::<Vec<_>>()
             };
             match kernel {
                 Kernel::Avx512 => {
                     for ((a, b), scale) in got.iter().zip(plain).zip(scale) {
-                        let error = (a.as_dvec3() - b.as_dvec3()).length();
+                        let error = (*a - *b).length();
                         assert!(a.is_finite() && error <= 1e-6 * scale, "round {round}: {a} vs {b}");
                     }
                 }

@@ -96,6 +96,7 @@ impl LocalSources {
     }
 
     /// Number of sources, the padding not counted.
+    #[cfg(test)]
     pub fn count(&self) -> usize {
         self.count
     }

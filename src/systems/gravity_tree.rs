@@ -124,8 +124,8 @@ pub const REGION_SIZE: u32 = 256;
 pub(super) enum Step<'a> {
     /// A leaf it opens: its sources are summed one by one.
     Leaf(&'a Node),
-    /// A node it takes whole, and what the node pulls with.
-    Whole(&'a Node, &'a Moments),
+    /// A node it takes whole, by its index.
+    Whole(u32),
 }
 
 /// A run of sibling nodes: the nodes `nodes` (from the first to the end
@@ -607,7 +607,8 @@ impl Octree {
         }
         self.walk(0, p, p, theta.recip(), |step| match step {
             Step::Leaf(node) => add_pulls(&mut a, id, p, &self.sources[node.range()], softening2),
-            Step::Whole(node, &Moments { gm, quad }) => {
+            Step::Whole(i) => {
+                let (node, &Moments { gm, quad }) = (&self.tree.nodes[i as usize], &self.tree.moments[i as usize]);
                 let term = far_term(
                     gm as f32,
                     quad.map(|q| q as f32),
@@ -632,7 +633,7 @@ impl Octree {
         inverse_theta: f64,
         mut visit: impl FnMut(Step<'a>),
     ) {
-        let Nodes { nodes, moments } = &self.tree;
+        let nodes = &self.tree.nodes;
         let mut i = root;
         while i < nodes[root].skip as usize {
             let node = &nodes[i];
@@ -640,7 +641,7 @@ impl Octree {
                 visit(Step::Leaf(node));
                 i = node.skip as usize;
             } else if node.accepts(lo, hi, inverse_theta) {
-                visit(Step::Whole(node, &moments[i]));
+                visit(Step::Whole(i as u32));
                 i = node.skip as usize;
             } else {
                 i += 1;
@@ -676,6 +677,15 @@ impl Octree {
     /// For each group, the index of its region.
     pub(super) fn group_regions(&self) -> &[u32] {
         &self.group_regions
+    }
+
+    /// The groups of the region `region` (groups follow their regions in
+    /// leaf order).
+    pub(super) fn groups_of(&self, region: usize) -> &[std::ops::Range<u32>] {
+        let region = region as u32;
+        let start = self.group_regions.partition_point(|&r| r < region);
+        let end = self.group_regions.partition_point(|&r| r <= region);
+        &self.groups[start..end]
     }
 
     /// Number of regions (see `gravity_walk`).
