@@ -118,6 +118,37 @@ fn gravity_tree(c: &mut Criterion) {
     }
 }
 
+/// The tree's pull at the 100 000-source goal: a uniform cloud in the
+/// cube of edge 1000 of `benches/self_gravity.ron` (ten times denser than
+/// at 10 000), θ = 0.5, as one update's gravity stage computes it before
+/// the kick.
+fn gravity_tree_100k(c: &mut Criterion) {
+    let count = 100_000;
+    let mut rng = Rng::new(4);
+    let sources: Vec<GravitySource> = (0..count)
+        .map(|i| GravitySource {
+            id: BodyId(i as u64),
+            position: DVec3::new(rng.symmetric(500.0), rng.symmetric(500.0), rng.symmetric(500.0))
+                .as_vec3()
+                .as_dvec3(),
+            gm: 6.674,
+        })
+        .collect();
+    let method = GravityMethod::Tree { theta: 0.5 };
+    let mut group = c.benchmark_group("kernel_gravity_tree_100k");
+    group.sample_size(10);
+    for mode in MODES {
+        let exec = execution(mode);
+        let mut scratch = PullScratch::default();
+        group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
+            b.iter(|| {
+                prepare_pull(method, &sources, count, 1.0, &exec, &mut scratch);
+            })
+        });
+    }
+    group.finish();
+}
+
 /// The tree's build alone (sorting into octants, moments, regions and
 /// groups) over uniform clouds, as `benches/self_gravity.ron`'s (the same
 /// density at every count).
@@ -244,6 +275,7 @@ criterion_group!(
     benches,
     gravity,
     gravity_tree,
+    gravity_tree_100k,
     gravity_tree_build,
     sweep,
     response,

@@ -148,13 +148,26 @@ impl GroupLists {
         gm.extend_from_slice(&sources.gm[range]);
     }
 
-    /// Appends a node to take whole.
-    pub fn push_far(&mut self, com: DVec3, gm: f64, quad: [f64; 6]) {
-        // `quad` per unit of `G·m` (see [`far_term`]).
-        let [x, y, z] = self.relative(com);
-        let values = [x, y, z, gm as f32].into_iter().chain(quad.map(|q| q as f32));
-        for (column, v) in self.far.iter_mut().zip(values) {
-            column.push(v);
+    /// Appends a node to take whole: its center of mass, `G·m` and
+    /// quadrupole per unit of `G·m` (see [`far_term`]).
+    pub fn push_far(&mut self, com: DVec3, gm: f32, quad: [f32; 6]) {
+        self.extend_far([(com, gm, quad)].iter().copied());
+    }
+
+    /// Appends nodes to take whole, as [`push_far`](Self::push_far) does,
+    /// column by column (no growth check per value).
+    pub fn extend_far<I>(&mut self, nodes: I)
+    where
+        I: Iterator<Item = (DVec3, f32, [f32; 6])> + Clone,
+    {
+        let c = self.center;
+        let [x, y, z, gm, quad @ ..] = &mut self.far;
+        x.extend(nodes.clone().map(|(p, ..)| (p.x - c.x) as f32));
+        y.extend(nodes.clone().map(|(p, ..)| (p.y - c.y) as f32));
+        z.extend(nodes.clone().map(|(p, ..)| (p.z - c.z) as f32));
+        gm.extend(nodes.clone().map(|(_, gm, _)| gm));
+        for (k, column) in quad.iter_mut().enumerate() {
+            column.extend(nodes.clone().map(|(.., q)| q[k]));
         }
     }
 
@@ -372,7 +385,7 @@ mod tests {
         lists.clear(DVec3::ZERO);
         lists.push_far(DVec3::new(10.0, 0.0, 0.0), 3.0, q);
         lists.pad();
-        let one = Vec3::from_array(far_term(3.0, q.map(|q| q as f32), [-10.0, 0.0, 0.0], 1.0));
+        let one = Vec3::from_array(far_term(3.0, q, [-10.0, 0.0, 0.0], 1.0));
         assert_eq!(pull_on(&lists, DVec3::ZERO, 1.0), one.as_dvec3());
         assert!(pull_on(&lists, DVec3::splat(1e30), 0.0).is_finite());
     }
@@ -401,9 +414,9 @@ mod tests {
             lists.push_near(&columns(&all), 0..all.len());
             let mut far = Vec::new();
             for s in &all {
-                let q = std::array::from_fn(|_| rng.symmetric(s.gm));
+                let q = std::array::from_fn(|_| rng.symmetric(s.gm) as f32);
                 let com = s.position * 4.0 + DVec3::splat(300.0);
-                lists.push_far(com, s.gm, q);
+                lists.push_far(com, s.gm as f32, q);
                 far.push((com, s.gm));
             }
             lists.pad();

@@ -52,14 +52,15 @@ pub(super) struct Node {
 
 const _: () = assert!(size_of::<Node>() == 64, "a node is one cache line");
 
-/// What a node pulls with when taken whole.
+/// What a node pulls with when taken whole, in `f32`, as the far sums
+/// take it.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct Moments {
     /// Total `G·m`.
-    pub(super) gm: f64,
+    pub(super) gm: f32,
     /// Quadrupole `Σ G·m·(3·x·xᵀ − |x|²·I)` about the center of mass per
     /// unit of the total `G·m` (0 if that is 0), as xx, yy, zz, xy, xz, yz.
-    pub(super) quad: [f64; 6],
+    pub(super) quad: [f32; 6],
 }
 
 impl Node {
@@ -320,7 +321,13 @@ fn node_of(summary: &Summary, first: usize, len: usize, depth: u32) -> (Node, Mo
         len: len as u32,
         leaf: is_leaf(len, depth),
     };
-    (node, Moments { gm, quad })
+    (
+        node,
+        Moments {
+            gm: gm as f32,
+            quad: quad.map(|q| q as f32),
+        },
+    )
 }
 
 /// Whether a node of `len` sources at `depth` is a leaf.
@@ -609,12 +616,7 @@ impl Octree {
             Step::Leaf(node) => add_pulls(&mut a, id, p, &self.sources[node.range()], softening2),
             Step::Whole(i) => {
                 let (node, &Moments { gm, quad }) = (&self.tree.nodes[i as usize], &self.tree.moments[i as usize]);
-                let term = far_term(
-                    gm as f32,
-                    quad.map(|q| q as f32),
-                    (p - node.com).as_vec3().to_array(),
-                    softening2 as f32,
-                );
+                let term = far_term(gm, quad, (p - node.com).as_vec3().to_array(), softening2 as f32);
                 a += Vec3::from_array(term).as_dvec3();
             }
         });

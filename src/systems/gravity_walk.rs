@@ -170,10 +170,10 @@ impl Octree {
         for run in near {
             lists.push_near(self.columns(), run.clone());
         }
-        for &i in far {
+        lists.extend_far(far.iter().map(|&i| {
             let (node, m) = (&nodes[i as usize], &moments[i as usize]);
-            lists.push_far(node.com, m.gm, m.quad);
-        }
+            (node.com, m.gm, m.quad)
+        }));
         lists.pad();
     }
 
