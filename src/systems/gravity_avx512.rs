@@ -8,9 +8,9 @@
 //! is added with a fused multiply-add, so the pull differs from the plain
 //! kernel's in the last bits. Every run on one processor takes the same
 //! kernel, so sequential and parallel still give the same bits. Each
-//! body's sum depends on its group's lists alone, summed in a fixed order:
-//! blocks of [`BLOCK`] registers in `f32`, carried into `f64`, the lanes
-//! added at the end.
+//! body's sum depends on the lists it is given alone, summed in a fixed
+//! order: blocks of [`BLOCK`] registers in `f32`, carried into `f64`, the
+//! lanes added at the end.
 
 use std::arch::x86_64::*;
 
@@ -87,11 +87,12 @@ fn add_near<const SOFTENED: bool>(sum: &mut [__m512; 3], gm: __m512, d: [__m512;
 }
 
 /// Whether the near list may be summed [`SOFTENED`](add_near): `ε²` (in
-/// `f32`, as summed) is positive and the largest `G·m` over `ε³` is below
-/// 10³⁶, far inside `f32`'s range even with the estimate's error.
+/// `f32`, as summed) is at least 10⁻³⁰, so that `1/ε²` is far inside
+/// `f32`'s range, and the largest `G·m` over `ε³` is below 10³⁶, so that
+/// the body's own term is finite, even with the estimate's error.
 fn softened(gm: &[f32], softening2: f32) -> bool {
     let most = gm.iter().fold(0.0f32, |most, &g| most.max(g));
-    softening2 > 0.0 && f64::from(most) * f64::from(softening2).powf(-1.5) < 1e36
+    softening2 >= 1e-30 && f64::from(most) * f64::from(softening2).powf(-1.5) < 1e36
 }
 
 /// The near sums of the bodies at `at` into `totals`.
@@ -105,8 +106,9 @@ fn near_sums<const SOFTENED: bool>(lists: &GroupLists, at: &[DVec3], totals: &mu
     });
 }
 
-/// Adds `gravity_columns::far_term` in each slot to `sum`, as `A·(q·n) −
-/// B·n` with `A = G·m/r⁴` and `B = G·m·(1 + (5/2)·(nᵀqn)/r²)/r²`.
+/// Adds `gravity_columns::far_term` in each slot to `sum`, in its form:
+/// `G·m/r²` times ratios of lengths, so that nothing overflows or falls
+/// into `f32`'s subnormal range (not `G·m/r⁴` on its own).
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn add_far(sum: &mut [__m512; 3], gm: __m512, q: [__m512; 6], r: [__m512; 3], softening2: __m512) {
@@ -123,9 +125,9 @@ fn add_far(sum: &mut [__m512; 3], gm: __m512, q: [__m512; 6], r: [__m512; 3], so
     let qn = [dot([xx, xy, xz]), dot([xy, yy, yz]), dot([xz, yz, zz])];
     let radial = _mm512_fmadd_ps(_mm512_mul_ps(dot(qn), inv2), _mm512_set1_ps(2.5), _mm512_set1_ps(1.0));
     let scale = _mm512_mul_ps(gm, inv2);
-    let (a, b) = (_mm512_mul_ps(scale, inv2), _mm512_mul_ps(scale, radial));
     for ((sum, qn), n) in sum.iter_mut().zip(qn).zip(n) {
-        *sum = _mm512_fnmadd_ps(b, n, _mm512_fmadd_ps(a, qn, *sum));
+        let ratio = _mm512_fmsub_ps(qn, inv2, _mm512_mul_ps(n, radial));
+        *sum = _mm512_fmadd_ps(scale, ratio, *sum);
     }
 }
 

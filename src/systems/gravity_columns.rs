@@ -1,21 +1,24 @@
 //! The sums of the tree's walks (docs/design.md, "Gravity"), over
-//! columns: a group gathers the sources it sums one by one and the nodes it
-//! takes whole into [`GroupLists`] once, and each of its bodies then runs
-//! down them in [`LANES`] independent partial sums, the slots of a SIMD
-//! register. The lanes are added in one fixed order at the end, so a
-//! body's sum depends on its group's lists alone.
+//! columns: a region or a group gathers the sources it sums one by one and
+//! the nodes it takes whole into [`GroupLists`] once, and each of its
+//! bodies then runs down them in [`LANES`] independent partial sums, the
+//! slots of a SIMD register. The lanes are added in one fixed order at the
+//! end, so a body's sum over a set of lists depends on those lists alone
+//! (`gravity_walk` adds a body's region's and group's sums and the local
+//! expansion).
 //!
-//! The lists hold `f32` positions relative to the group's center, so no
-//! precision is lost to the distance from the origin, and the terms are
-//! `f32` ([`near_term`], [`far_term`]): right to about 10⁻⁷, the precision
-//! of the `f32` positions and of the result, while `f32`'s division and
-//! square root cost a fraction of `f64`'s and a register holds twice the
-//! lanes. Each lane's `f32` partial sum is carried over into `f64` every
-//! [`BLOCK`] terms. Which [`Kernel`] runs depends on the processor:
-//! `gravity_avx512`'s (sixteen lanes, `1/r` from an estimate and a Newton
-//! step: the last bits differ), `gravity_avx`'s (the same operations as
-//! lane by lane in the same order, so the same bits), or lane by lane here.
-//! A processor always runs the same one, so sequential and parallel agree.
+//! The lists hold `f32` positions relative to a center near their bodies
+//! (the region's or the group's), so no precision is lost to the distance
+//! from the origin, and the terms are `f32` ([`near_term`], [`far_term`]):
+//! right to about 10⁻⁷, the precision of the `f32` positions and of the
+//! result, while `f32`'s division and square root cost a fraction of
+//! `f64`'s and a register holds twice the lanes. Each lane's `f32` partial
+//! sum is carried over into `f64` every [`BLOCK`] terms. Which [`Kernel`]
+//! runs depends on the processor: `gravity_avx512`'s (sixteen lanes, `1/r`
+//! and `1/r³` from an estimate and a Newton step, fused multiply-adds: the
+//! last bits differ), `gravity_avx`'s (the same operations as lane by lane
+//! in the same order, so the same bits), or lane by lane here. A processor
+//! always runs the same one, so sequential and parallel agree.
 
 use bevy::math::DVec3;
 
@@ -250,8 +253,9 @@ fn group_pulls_plain(lists: &GroupLists, members: &[GravitySource], softening2: 
 /// A version of the group kernel, for one kind of processor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kernel {
-    /// Sixteen lanes, `1/r` from an estimate and a Newton step
-    /// (`gravity_avx512`): the last bits differ from the others'.
+    /// Sixteen lanes, `1/r` and `1/r³` from an estimate and a Newton step,
+    /// fused multiply-adds (`gravity_avx512`): the last bits differ from
+    /// the others'.
     Avx512,
     /// Eight lanes in AVX registers (`gravity_avx`): the same bits as
     /// [`Plain`](Self::Plain).
@@ -390,25 +394,32 @@ mod tests {
         assert!(pull_on(&lists, DVec3::splat(1e30), 0.0).is_finite());
     }
 
-    /// Random lists longer than a block, with the body itself, sources on
-    /// top of each other, softening 0 and distances beyond `f32`'s range:
-    /// the pulls of each kernel the processor has, and lane by lane.
+    /// Random lists longer than a block (of `BLOCK` chunks, and of as many
+    /// 512-bit registers), with the body itself, sources on top of each
+    /// other, softening 0, a softening below `f32`'s normal range with
+    /// massless sources, and distances beyond `f32`'s range: the pulls of
+    /// each kernel the processor has, and lane by lane.
     fn every_kernel(mut check: impl FnMut(Kernel, &[DVec3], &[DVec3], &[f64], usize)) {
         let mut rng = Rng::new(9);
-        for round in 0..24 {
+        for round in 0..36 {
             let count = 1 + round * 9;
+            let massless = round % 8 == 3;
             let mut all: Vec<GravitySource> = (0..count)
                 .map(|i| GravitySource {
                     id: BodyId(i as u64),
                     position: DVec3::new(rng.symmetric(50.0), rng.symmetric(50.0), rng.symmetric(50.0)),
-                    gm: rng.range(0.0, 10.0),
+                    gm: if massless { 0.0 } else { rng.range(0.0, 10.0) },
                 })
                 .collect();
             all[0].position = all[count - 1].position;
             if round % 4 == 1 {
                 all[0].position.x = 1e25;
             }
-            let softening2 = if round % 2 == 0 { 0.0 } else { 0.3 };
+            let softening2 = match round % 2 {
+                _ if massless => 1e-40,
+                0 => 0.0,
+                _ => 0.3,
+            };
             let mut lists = GroupLists::default();
             lists.clear(DVec3::new(3.0, -20.0, 7.5));
             lists.push_near(&columns(&all), 0..all.len());
@@ -438,6 +449,46 @@ mod tests {
                 let mut got = Vec::new();
                 kernel.run(&lists, &all, softening2, &mut got);
                 check(kernel, &plain, &got, &scale, round);
+            }
+        }
+    }
+
+    /// A node taken whole, very near and very heavy, or very far and light:
+    /// every kernel's pull is finite and lane by lane's (the far term keeps
+    /// to `G·m/r²` times ratios of lengths, so neither overflows nor falls
+    /// into `f32`'s subnormal range).
+    #[test]
+    fn the_far_term_holds_at_extreme_scales() {
+        for (distance, gm) in [(1e-6, 1e18), (1e10, 6.674), (1e15, 1e-6), (3.0, 1.0)] {
+            let body = GravitySource {
+                id: BodyId(0),
+                position: DVec3::ZERO,
+                gm: 1.0,
+            };
+            let q = [0.3, -0.1, -0.2, 0.05, -0.04, 0.02].map(|q| (q * distance * distance * 0.1) as f32);
+            let mut lists = GroupLists::default();
+            lists.clear(DVec3::ZERO);
+            lists.push_far(DVec3::new(0.6, -0.48, 0.64) * distance, gm as f32, q);
+            lists.pad();
+            let mut plain = Vec::new();
+            group_pulls_plain(&lists, &[body], 0.0, &mut plain);
+            // Newton's pull and the quadrupole's tenth of it.
+            let newton = gm / (distance * distance);
+            assert!(
+                (plain[0].length() / newton - 1.0).abs() < 0.5,
+                "{distance}: {}",
+                plain[0]
+            );
+            for kernel in Kernel::available() {
+                let mut got = Vec::new();
+                kernel.run(&lists, &[body], 0.0, &mut got);
+                let error = (got[0] - plain[0]).length() / plain[0].length();
+                assert!(
+                    error <= 1e-6,
+                    "{kernel:?} at {distance}: {} against {}",
+                    got[0],
+                    plain[0]
+                );
             }
         }
     }

@@ -27,9 +27,9 @@ use super::gravity_columns::{GroupLists, group_pulls};
 use super::gravity_local::{Local, LocalExpansion, LocalSources};
 use super::gravity_tree::{Octree, Step, bounds};
 
-/// Room a group's near list starts with (a uniform cloud's groups of 64 sum
-/// about 1 600 sources one by one, a shattered cluster's about 2 400); its
-/// far list gets a quarter.
+/// Room a near list starts with (in a uniform cloud of 100 000 a region's
+/// lists hold about 1 200 sources and 270 nodes, a group's own about 1 000
+/// and 200; a shattered cluster's more); its far list gets a quarter.
 const LIST_CAPACITY: usize = 4096;
 
 /// The least distance from the center of the box `lo..=hi` at which a
@@ -332,6 +332,66 @@ mod tests {
             worst_of_terms <= 1e-5,
             "θ = 0: worst against the terms {worst_of_terms}"
         );
+    }
+
+    /// Where no source is far enough for a local expansion, a region's
+    /// lists and each of its groups' own lists together hold exactly what
+    /// the group's own walk of the whole tree would: the same sources one
+    /// by one and the same nodes whole, none twice.
+    #[test]
+    fn a_regions_lists_and_a_groups_own_are_the_groups_whole_walk() {
+        let mut rng = Rng::new(21);
+        let sources: Vec<GravitySource> = (0..6000)
+            .map(|i| GravitySource {
+                id: BodyId(i),
+                position: DVec3::new(rng.symmetric(500.0), rng.symmetric(500.0), rng.symmetric(500.0)),
+                gm: 6.674,
+            })
+            .collect();
+        let mut tree = Octree::default();
+        tree.rebuild(&sources);
+        let inverse_theta = 2.0;
+        // Sources summed one by one and nodes taken whole, sorted.
+        let lists = |runs: &[Range<usize>], far: &[u32]| {
+            let mut near: Vec<usize> = runs.iter().flat_map(Range::clone).collect();
+            let mut far = far.to_vec();
+            near.sort_unstable();
+            far.sort_unstable();
+            (near, far)
+        };
+        let walk = |roots: &[u32], (lo, hi): (DVec3, DVec3)| {
+            let (mut runs, mut far) = (Vec::new(), Vec::new());
+            for &root in roots {
+                tree.walk(root as usize, lo, hi, inverse_theta, |step| match step {
+                    Step::Leaf(node) => runs.push(node.range()),
+                    Step::Whole(i) => far.push(i),
+                });
+            }
+            (runs, far)
+        };
+        let (mut open, mut found) = (Vec::new(), RegionLists::default());
+        let mut checked = 0;
+        for (r, region) in tree.regions().iter().enumerate() {
+            let (lo, hi) = bounds(&tree.sources()[region.sources.start as usize..region.sources.end as usize]);
+            let boxes: Vec<(DVec3, DVec3)> = tree
+                .groups_of(r)
+                .iter()
+                .map(|g| bounds(&tree.sources()[g.start as usize..g.end as usize]))
+                .collect();
+            tree.region_walk(lo, hi, &boxes, inverse_theta, &mut open, &mut found);
+            assert!(found.distant.is_empty(), "region {r} expanded sources");
+            for &group in &boxes {
+                let (mut runs, mut far) = walk(&open, group);
+                runs.extend(found.near.iter().cloned());
+                far.extend(&found.far);
+                let (whole_runs, whole_far) = walk(&[0], group);
+                assert_eq!(lists(&runs, &far), lists(&whole_runs, &whole_far), "region {r}");
+                checked += 1;
+            }
+            // The region shares something with its groups.
+            assert!(!found.near.is_empty() && !found.far.is_empty(), "region {r}");
+        }
+        assert_eq!(checked, tree.group_count());
     }
 
     /// A dense clump in a wide, sparse halo: the halo's leaves are as big as
