@@ -85,11 +85,14 @@ fn far_term(gm: __m256, q: [__m256; 6], r: [__m256; 3], softening2: __m256) -> [
         _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(2.5), dot(n, qn)), inv2),
     );
     let scale = _mm256_mul_ps(gm, inv2);
+    // Zero where r² overflowed (1/r² = 0), as the plain branch.
+    let keep = _mm256_cmp_ps::<_CMP_GT_OQ>(inv2, _mm256_setzero_ps());
     let component = |c: usize| {
-        _mm256_mul_ps(
+        let term = _mm256_mul_ps(
             scale,
             _mm256_sub_ps(_mm256_mul_ps(qn[c], inv2), _mm256_mul_ps(n[c], radial)),
-        )
+        );
+        _mm256_and_ps(term, keep)
     };
     [component(0), component(1), component(2)]
 }

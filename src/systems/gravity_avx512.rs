@@ -1,4 +1,4 @@
-//! The group walk's kernel (`gravity_columns`) with AVX-512: sixteen
+//! The walks' kernel (`gravity_columns`) with AVX-512: sixteen
 //! `f32` lanes in one 512-bit register, and `1/r` from the processor's
 //! approximate reciprocal square root (`vrsqrt14ps`, 14 bits) refined by
 //! one Newton step, instead of a division and a square root: those run on
@@ -45,8 +45,8 @@ fn length2(d: [__m512; 3]) -> __m512 {
 }
 
 /// The slots where `s`, a squared distance, is finite (not the padding far
-/// away, nor a source beyond `f32`'s range, whose pull is below it), among
-/// those of `among`.
+/// away, nor a source or node so far that its squared distance overflows
+/// `f32`: its pull is dropped), among those of `among`.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn finite(among: __mmask16, s: __m512) -> __mmask16 {
@@ -57,9 +57,10 @@ fn finite(among: __mmask16, s: __m512) -> __mmask16 {
 /// with `s = |d|² + ε²`. From the estimate `y ≈ 1/√s`, `1/s^{3/2}` is
 /// `y³·(5/2 − (3/2)·s·y²)`, a Newton step taken on `y³` (relative error
 /// `7.5·e²` for an estimate off by `e` ≤ 2⁻¹⁴: below `f32`'s rounding).
-/// `SOFTENED`: the caller has checked that `ε² > 0` and that no source's
-/// `G·m/ε³` comes near `f32`'s range (see [`softened`]), so that the term
-/// of the body itself (`d = 0`) is exactly 0 without being masked out.
+/// `SOFTENED`: the caller has checked that `ε² ≥ 10⁻³⁰` and that no
+/// source's `G·m/ε³` comes near `f32`'s range (see [`softened`]), so that
+/// the term of the body itself (`d = 0`) is exactly 0 without being masked
+/// out.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn add_near<const SOFTENED: bool>(sum: &mut [__m512; 3], gm: __m512, d: [__m512; 3], softening2: __m512) {
@@ -107,18 +108,20 @@ fn near_sums<const SOFTENED: bool>(lists: &GroupLists, at: &[DVec3], totals: &mu
 }
 
 /// Adds `gravity_columns::far_term` in each slot to `sum`, in its form:
-/// `G·m/r²` times ratios of lengths, so that nothing overflows or falls
-/// into `f32`'s subnormal range (not `G·m/r⁴` on its own).
+/// `G·m/r²` times ratios of lengths (not `G·m/r⁴` on its own), so that no
+/// intermediate overflows or falls into `f32`'s subnormal range unless the
+/// term itself would; nothing where `r²` overflows.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn add_far(sum: &mut [__m512; 3], gm: __m512, q: [__m512; 6], r: [__m512; 3], softening2: __m512) {
     let [xx, yy, zz, xy, xz, yz] = q;
     let s = _mm512_add_ps(length2(r), softening2);
-    // 1/r by one Newton step, y·(3/2 − s·y²/2); 0 beyond f32's range (the
-    // padding among them), so that every term there is 0, not NaN.
+    // 1/r by one Newton step, y·(3/2 − s·y²/2); nothing is added beyond
+    // f32's range (the padding among them), however large the quadrupole.
+    let keep = finite(!0, s);
     let y = _mm512_rsqrt14_ps(s);
     let half_s_y = _mm512_mul_ps(_mm512_mul_ps(s, _mm512_set1_ps(0.5)), y);
-    let inv1 = _mm512_maskz_mul_ps(finite(!0, s), y, _mm512_fnmadd_ps(half_s_y, y, _mm512_set1_ps(1.5)));
+    let inv1 = _mm512_maskz_mul_ps(keep, y, _mm512_fnmadd_ps(half_s_y, y, _mm512_set1_ps(1.5)));
     let inv2 = _mm512_mul_ps(inv1, inv1);
     let n = r.map(|r| _mm512_mul_ps(r, inv1));
     let dot = |a: [__m512; 3]| _mm512_fmadd_ps(a[2], n[2], _mm512_fmadd_ps(a[1], n[1], _mm512_mul_ps(a[0], n[0])));
@@ -127,7 +130,7 @@ fn add_far(sum: &mut [__m512; 3], gm: __m512, q: [__m512; 6], r: [__m512; 3], so
     let scale = _mm512_mul_ps(gm, inv2);
     for ((sum, qn), n) in sum.iter_mut().zip(qn).zip(n) {
         let ratio = _mm512_fmsub_ps(qn, inv2, _mm512_mul_ps(n, radial));
-        *sum = _mm512_fmadd_ps(scale, ratio, *sum);
+        *sum = _mm512_mask3_fmadd_ps(scale, ratio, *sum, keep);
     }
 }
 

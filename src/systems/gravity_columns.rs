@@ -61,8 +61,10 @@ pub fn near_term(gm: f32, d: [f32; 3], softening2: f32) -> [f32; 3] {
 /// center of mass (`r² = |r|² + ε²`, `ε²` = `softening2`): `−gm·r/r³ +
 /// gm·q·r/r⁵ − (5/2)·gm·(rᵀqr)·r/r⁷`. It is computed as `gm/r² · ((q·n)/r²
 /// − (1 + (5/2)·(nᵀqn)/r²)·n)` with `n = r/r`, so that every intermediate
-/// is a ratio of lengths or `gm/r²`: nothing overflows, and nothing falls
-/// into `f32`'s subnormal range, where arithmetic is many times slower.
+/// is a ratio of lengths or `gm/r²`: none overflows or falls into `f32`'s
+/// subnormal range (where arithmetic is many times slower) unless the term
+/// itself would. A node so far that `r²` overflows `f32` pulls nothing
+/// (not NaN, whatever its quadrupole).
 #[inline(always)]
 pub fn far_term(gm: f32, q: [f32; 6], r: [f32; 3], softening2: f32) -> [f32; 3] {
     let [xx, yy, zz, xy, xz, yz] = q;
@@ -75,11 +77,15 @@ pub fn far_term(gm: f32, q: [f32; 6], r: [f32; 3], softening2: f32) -> [f32; 3] 
     let qz = xz * nx + yz * ny + zz * nz;
     let radial = 1.0 + 2.5 * (nx * qx + ny * qy + nz * qz) * inv2;
     let scale = gm * inv2;
-    [
-        scale * (qx * inv2 - nx * radial),
-        scale * (qy * inv2 - ny * radial),
-        scale * (qz * inv2 - nz * radial),
-    ]
+    if inv2 > 0.0 {
+        [
+            scale * (qx * inv2 - nx * radial),
+            scale * (qy * inv2 - ny * radial),
+            scale * (qz * inv2 - nz * radial),
+        ]
+    } else {
+        [0.0; 3]
+    }
 }
 
 /// The tree's sources in leaf order as columns, as the near lists copy
@@ -106,8 +112,8 @@ impl LeafSources {
     }
 }
 
-/// What a group of bodies sums, as columns relative to a center near
-/// them, each padded with massless entries to a multiple of [`PAD_TO`]:
+/// What a group or a region of bodies sums, as columns relative to a
+/// center near them, each padded with massless entries to a multiple of [`PAD_TO`]:
 /// the sources it sums one by one (position, `G·m`) and the nodes it takes
 /// whole (center of mass, `G·m`, quadrupole).
 #[derive(Clone, Debug, Default)]
@@ -490,6 +496,27 @@ mod tests {
                     plain[0]
                 );
             }
+        }
+    }
+
+    /// A node so far that `r²` overflows `f32`, however large its
+    /// quadrupole, pulls exactly nothing in every kernel (not NaN).
+    #[test]
+    fn a_node_beyond_f32s_squares_pulls_nothing() {
+        let body = GravitySource {
+            id: BodyId(0),
+            position: DVec3::ZERO,
+            gm: 1.0,
+        };
+        let most = f32::MAX / 16.0;
+        let mut lists = GroupLists::default();
+        lists.clear(DVec3::ZERO);
+        lists.push_far(DVec3::new(1e20, 0.0, 3e19), 1e18, [most, -most, 0.0, most, 0.0, -most]);
+        lists.pad();
+        for kernel in Kernel::available() {
+            let mut got = Vec::new();
+            kernel.run(&lists, &[body], 0.0, &mut got);
+            assert_eq!(got, [DVec3::ZERO], "{kernel:?}");
         }
     }
 

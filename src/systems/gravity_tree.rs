@@ -321,11 +321,14 @@ fn node_of(summary: &Summary, first: usize, len: usize, depth: u32) -> (Node, Mo
         len: len as u32,
         leaf: is_leaf(len, depth),
     };
+    // A quadrupole beyond f32's range (a node wider than about 10¹⁹) is
+    // held within it, so that the far sums stay finite wherever r² is.
+    let most = f64::from(f32::MAX / 16.0);
     (
         node,
         Moments {
             gm: gm as f32,
-            quad: quad.map(|q| q as f32),
+            quad: quad.map(|q| q.clamp(-most, most) as f32),
         },
     )
 }

@@ -334,10 +334,12 @@ mod tests {
         );
     }
 
-    /// Where no source is far enough for a local expansion, a region's
-    /// lists and each of its groups' own lists together hold exactly what
-    /// the group's own walk of the whole tree would: the same sources one
-    /// by one and the same nodes whole, none twice.
+    /// Where the region's local reach opens nothing for its groups (in a
+    /// uniform cloud no node lies wholly beyond it, and no source goes to an
+    /// expansion), a region's lists and each of its groups' own lists
+    /// together hold exactly what the group's own walk of the whole tree
+    /// would: the same sources one by one and the same nodes whole, none
+    /// twice.
     #[test]
     fn a_regions_lists_and_a_groups_own_are_the_groups_whole_walk() {
         let mut rng = Rng::new(21);
@@ -370,7 +372,7 @@ mod tests {
             (runs, far)
         };
         let (mut open, mut found) = (Vec::new(), RegionLists::default());
-        let mut checked = 0;
+        let (mut checked, mut own) = (0, 0);
         for (r, region) in tree.regions().iter().enumerate() {
             let (lo, hi) = bounds(&tree.sources()[region.sources.start as usize..region.sources.end as usize]);
             let boxes: Vec<(DVec3, DVec3)> = tree
@@ -382,6 +384,7 @@ mod tests {
             assert!(found.distant.is_empty(), "region {r} expanded sources");
             for &group in &boxes {
                 let (mut runs, mut far) = walk(&open, group);
+                own += runs.len() + far.len();
                 runs.extend(found.near.iter().cloned());
                 far.extend(&found.far);
                 let (whole_runs, whole_far) = walk(&[0], group);
@@ -392,6 +395,8 @@ mod tests {
             assert!(!found.near.is_empty() && !found.far.is_empty(), "region {r}");
         }
         assert_eq!(checked, tree.group_count());
+        // The groups' own walks find something too.
+        assert!(own > 0);
     }
 
     /// A dense clump in a wide, sparse halo: the halo's leaves are as big as
@@ -463,6 +468,35 @@ mod tests {
         let (median, worst) = (e[e.len() / 2], e[e.len() - 1]);
         eprintln!("walks, θ = 2: median relative error {median:.2e}, worst {worst:.2e}");
         assert!(worst.is_finite() && median < 0.05, "median {median}, worst {worst}");
+    }
+
+    /// Sources spread over every scale up to 10²⁵ (so that some nodes are
+    /// wider than `f32`'s squares allow and taken whole from farther still):
+    /// every pull is finite, through the walks and the single-point walk,
+    /// at θ = 0.5 and at the largest θ.
+    #[test]
+    fn sources_spread_to_the_largest_scales_pull_finitely() {
+        let mut rng = Rng::new(17);
+        let sources: Vec<GravitySource> = (0..3000)
+            .map(|i| {
+                let dir = DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0)).normalize_or_zero();
+                GravitySource {
+                    id: BodyId(i),
+                    position: (dir * 10f64.powf(rng.range(0.0, 25.0))).as_vec3().as_dvec3(),
+                    gm: 6.674 * rng.range(0.5, 2.0),
+                }
+            })
+            .collect();
+        let mut tree = Octree::default();
+        tree.rebuild(&sources);
+        for theta in [0.5, f64::from(crate::resources::MAX_THETA)] {
+            let walked = walked(&sources, theta);
+            for (a, s) in walked.iter().zip(&sources) {
+                assert!(a.is_finite(), "θ = {theta}: {a} at {}", s.position);
+                let alone = tree.acceleration_at(BodyId(u64::MAX), s.position.as_vec3() + Vec3::X, theta, 1.0);
+                assert!(alone.is_finite(), "θ = {theta}: {alone} near {}", s.position);
+            }
+        }
     }
 
     /// A leaf at the deepest level holds every source on one point, more
