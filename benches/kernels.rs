@@ -77,15 +77,7 @@ fn gravity(c: &mut Criterion) {
 fn gravity_tree(c: &mut Criterion) {
     let count = 10_000;
     let mut rng = Rng::new(3);
-    let uniform: Vec<GravitySource> = (0..count)
-        .map(|i| GravitySource {
-            id: BodyId(i as u64),
-            position: DVec3::new(rng.symmetric(500.0), rng.symmetric(500.0), rng.symmetric(500.0))
-                .as_vec3()
-                .as_dvec3(),
-            gm: 6.674,
-        })
-        .collect();
+    let uniform = uniform_cloud(count, &mut rng);
     let clustered: Vec<GravitySource> = (0..count)
         .map(|i| {
             let direction = DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0)).normalize_or_zero();
@@ -99,22 +91,40 @@ fn gravity_tree(c: &mut Criterion) {
             }
         })
         .collect();
-    let method = GravityMethod::Tree { theta: 0.5 };
-    for (name, sources) in [
-        ("kernel_gravity_tree", &uniform),
-        ("kernel_gravity_tree_clustered", &clustered),
-    ] {
-        let mut group = c.benchmark_group(name);
-        for mode in MODES {
-            let exec = execution(mode);
-            let mut scratch = PullScratch::default();
-            group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
-                b.iter(|| {
-                    prepare_pull(method, sources, count, 1.0, &exec, &mut scratch);
-                })
-            });
-        }
-        group.finish();
+    let mut group = c.benchmark_group("kernel_gravity_tree");
+    tree_pulls(&mut group, &uniform);
+    group.finish();
+    let mut group = c.benchmark_group("kernel_gravity_tree_clustered");
+    tree_pulls(&mut group, &clustered);
+    group.finish();
+}
+
+/// `count` sources uniform in the cube of edge 1000 of
+/// `benches/self_gravity.ron`, at `f32` positions as bodies have.
+fn uniform_cloud(count: usize, rng: &mut Rng) -> Vec<GravitySource> {
+    (0..count)
+        .map(|i| GravitySource {
+            id: BodyId(i as u64),
+            position: DVec3::new(rng.symmetric(500.0), rng.symmetric(500.0), rng.symmetric(500.0))
+                .as_vec3()
+                .as_dvec3(),
+            gm: 6.674,
+        })
+        .collect()
+}
+
+/// The tree's pull over `sources` (θ = 0.5, every source an adopter), each
+/// mode in `group`.
+fn tree_pulls(group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>, sources: &[GravitySource]) {
+    let (count, method) = (sources.len(), GravityMethod::Tree { theta: 0.5 });
+    for mode in MODES {
+        let exec = execution(mode);
+        let mut scratch = PullScratch::default();
+        group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
+            b.iter(|| {
+                prepare_pull(method, sources, count, 1.0, &exec, &mut scratch);
+            })
+        });
     }
 }
 
@@ -123,29 +133,10 @@ fn gravity_tree(c: &mut Criterion) {
 /// at 10 000), θ = 0.5, as one update's gravity stage computes it before
 /// the kick.
 fn gravity_tree_100k(c: &mut Criterion) {
-    let count = 100_000;
-    let mut rng = Rng::new(4);
-    let sources: Vec<GravitySource> = (0..count)
-        .map(|i| GravitySource {
-            id: BodyId(i as u64),
-            position: DVec3::new(rng.symmetric(500.0), rng.symmetric(500.0), rng.symmetric(500.0))
-                .as_vec3()
-                .as_dvec3(),
-            gm: 6.674,
-        })
-        .collect();
-    let method = GravityMethod::Tree { theta: 0.5 };
+    let sources = uniform_cloud(100_000, &mut Rng::new(4));
     let mut group = c.benchmark_group("kernel_gravity_tree_100k");
     group.sample_size(10);
-    for mode in MODES {
-        let exec = execution(mode);
-        let mut scratch = PullScratch::default();
-        group.bench_with_input(BenchmarkId::new(mode.name(), count), &count, |b, _| {
-            b.iter(|| {
-                prepare_pull(method, &sources, count, 1.0, &exec, &mut scratch);
-            })
-        });
-    }
+    tree_pulls(&mut group, &sources);
     group.finish();
 }
 

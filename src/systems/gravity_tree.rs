@@ -718,6 +718,19 @@ pub(super) mod tests {
 
     /// A Plummer-like cluster of `count` sources (dense core, sparse halo,
     /// unequal masses), radius capped at 5 000.
+    /// `count` sources of `G·m` = `gm` uniform in the cube of half edge
+    /// `half` about the origin.
+    pub(in crate::systems) fn uniform(count: u64, half: f64, gm: f64, seed: u64) -> Vec<GravitySource> {
+        let mut rng = Rng::new(seed);
+        (0..count)
+            .map(|i| GravitySource {
+                id: BodyId(i),
+                position: DVec3::new(rng.symmetric(half), rng.symmetric(half), rng.symmetric(half)),
+                gm,
+            })
+            .collect()
+    }
+
     pub(in crate::systems) fn cluster(count: usize, seed: u64) -> Vec<GravitySource> {
         let mut rng = Rng::new(seed);
         (0..count)
@@ -819,16 +832,8 @@ pub(super) mod tests {
         // groups than it has highest nodes of at most a group's size (here
         // the octree's second level holds about 1.25 groups' worth, so the
         // highest such nodes are its children, of about a sixth each).
-        let mut rng = Rng::new(7);
-        let uniform: Vec<GravitySource> = (0..u64::from(GROUP_SIZE) * 80)
-            .map(|i| GravitySource {
-                id: BodyId(i),
-                position: DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0)),
-                gm: 1.0,
-            })
-            .collect();
         let mut tree = Octree::default();
-        tree.rebuild(&uniform);
+        tree.rebuild(&uniform(u64::from(GROUP_SIZE) * 80, 1.0, 1.0, 7));
         let mut nodes = 0;
         let mut i = 0;
         while i < tree.tree.nodes.len() {

@@ -243,7 +243,7 @@ mod tests {
     use super::*;
     use crate::components::BodyId;
     use crate::rng::Rng;
-    use crate::systems::gravity_tree::tests::cluster;
+    use crate::systems::gravity_tree::tests::{cluster, uniform};
     use crate::systems::{GravitySource, acceleration_at};
 
     /// Every source's acceleration from the walks, in the order given; the
@@ -342,16 +342,8 @@ mod tests {
     /// twice.
     #[test]
     fn a_regions_lists_and_a_groups_own_are_the_groups_whole_walk() {
-        let mut rng = Rng::new(21);
-        let sources: Vec<GravitySource> = (0..6000)
-            .map(|i| GravitySource {
-                id: BodyId(i),
-                position: DVec3::new(rng.symmetric(500.0), rng.symmetric(500.0), rng.symmetric(500.0)),
-                gm: 6.674,
-            })
-            .collect();
         let mut tree = Octree::default();
-        tree.rebuild(&sources);
+        tree.rebuild(&uniform(6000, 500.0, 6.674, 21));
         let inverse_theta = 2.0;
         // Sources summed one by one and nodes taken whole, sorted.
         let lists = |runs: &[Range<usize>], far: &[u32]| {
