@@ -10,7 +10,8 @@ use crate::WINDOW_BUILD;
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy};
 use crate::input::{InputError, body_count, load_ron, read, whole_between};
-use crate::scenario::{MAX_BODIES, Scenario, checked};
+use crate::resources as physics;
+use crate::scenario::{MAX_BODIES, Scenario};
 
 /// A benchmark: runs of one scenario at several sizes and execution modes.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -153,16 +154,19 @@ fn split<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SplitPolicy>, D::Erro
     read(d, "split").map(Some)
 }
 
+// A run's own value of a physics setting, checked by the settings list's
+// rule.
+
 fn seed<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
-    whole_between(d, "seed", 0, u64::MAX).map(Some)
+    physics::read::seed(d).map(Some)
 }
 
 fn shatter_fragments<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
-    checked::shatter_fragments(d).map(Some)
+    physics::read::shatter_fragments(d).map(Some)
 }
 
 fn shatter_threshold<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f32>, D::Error> {
-    checked::shatter_threshold(d).map(Some)
+    physics::read::shatter_threshold(d).map(Some)
 }
 
 fn frames<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
@@ -252,15 +256,10 @@ impl Run {
     /// them.
     pub fn apply_to(&self, scenario: &Scenario) -> Scenario {
         let mut scenario = scenario.clone();
-        if let Some(seed) = self.seed {
-            scenario.seed = seed;
-        }
-        if let Some(fragments) = self.shatter_fragments {
-            scenario.shatter_fragments = fragments;
-        }
-        if let Some(threshold) = self.shatter_threshold {
-            scenario.shatter_threshold = threshold;
-        }
+        let physics = &mut scenario.physics;
+        physics.seed = self.seed.unwrap_or(physics.seed);
+        physics.shatter_fragments = self.shatter_fragments.unwrap_or(physics.shatter_fragments);
+        physics.shatter_threshold = self.shatter_threshold.unwrap_or(physics.shatter_threshold);
         scenario
     }
 }

@@ -45,7 +45,7 @@ pub fn bench(
     outputs.check()?;
     let mut scenario = config.load_scenario(config_path)?;
     if let Some(gravity) = gravity {
-        scenario.gravity = gravity;
+        scenario.physics.gravity_method = gravity;
     }
     let sized = config.size_runs(&scenario, config_path)?;
     let defaults = RunDefaults {

@@ -27,7 +27,7 @@ pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
 pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
     let mut scenario = Scenario::load(&args.scenario)?;
     if let Some(gravity) = args.gravity {
-        scenario.gravity = gravity;
+        scenario.physics.gravity_method = gravity;
     }
     let named: Vec<(&str, &Path)> = [
         ("--dump", &args.dump),

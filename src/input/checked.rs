@@ -60,7 +60,7 @@ pub fn vec3_where<'de, D: Deserializer<'de>>(
 
 /// A whole number, with the rule it must follow said if the value is not
 /// one of its type (negative, too large, not a number).
-fn whole<'de, T: Deserialize<'de>, D: Deserializer<'de>>(d: D, field: &str, rule: &str) -> Result<T, D::Error> {
+pub fn whole<'de, T: Deserialize<'de>, D: Deserializer<'de>>(d: D, field: &str, rule: &str) -> Result<T, D::Error> {
     T::deserialize(d).map_err(|e| D::Error::custom(format!("field `{field}`: must be a whole number {rule} ({e})")))
 }
 

@@ -2,8 +2,13 @@
 
 mod body_ids;
 mod gravity_method;
+mod setting_value;
 mod settings;
 
 pub use body_ids::*;
 pub use gravity_method::*;
-pub use settings::*;
+pub use setting_value::{SettingValue, problem, read_checked};
+pub use settings::{
+    Applies, MAX_BODIES, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_LENGTH, MAX_TIME_STEP, SETTINGS, SettingInfo,
+    SimulationSettings, check, read, setting, unknown_setting,
+};

@@ -1,19 +1,13 @@
-//! The checked fields of scenario files: each a `deserialize_with` reader
-//! named after its field, built on the shared checks of
-//! [`crate::input`], so that an error names the line, the field and the rule.
+//! The checked fields of scenario files other than the physics settings
+//! (whose rules are the settings list's, [`crate::resources::check`]): each
+//! a `deserialize_with` reader named after its field, built on the shared
+//! checks of [`crate::input`], so that an error names the line, the field
+//! and the rule.
 
-use serde::Deserialize;
 use serde::de::{Deserializer, Error};
 
 use crate::input::{body_count, f32_where, vec3_where, whole_between};
-use crate::resources::GravityMethod;
-
-/// Most bodies one scenario may create: about 200 bytes each in memory, so
-/// this bounds a run to a few GiB.
-pub const MAX_BODIES: u64 = 20_000_000;
-
-/// Most fragments one shatter may create.
-pub const MAX_FRAGMENTS: u32 = 1000;
+pub use crate::resources::{MAX_BODIES, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_LENGTH, MAX_TIME_STEP};
 
 macro_rules! checked_f32 {
     ($($name:ident: $rule:literal, |$v:ident| $ok:expr;)*) => {$(
@@ -44,25 +38,14 @@ macro_rules! checked_vec3 {
 // made (`start.rs`). A run that still overflows later stops with a
 // message naming the update and the body.
 
-/// Largest generator coordinate, speed or size, and softening length: 1e9.
-pub const MAX_LENGTH: f32 = 1e9;
 /// Largest coordinate or speed of a body: 1e30.
 pub const MAX_STATE: f32 = 1e30;
 /// Smallest shell radius: 1e-6.
 pub const MIN_RADIUS: f32 = 1e-6;
 /// Largest mass.
 pub const MAX_MASS: f32 = 1e12;
-/// Largest gravitational constant.
-pub const MAX_GRAVITATIONAL_CONSTANT: f32 = 1e6;
-/// Largest time step.
-pub const MAX_TIME_STEP: f32 = 1e3;
 
 checked_f32! {
-    gravitational_constant: "finite, from 0 to 1e6", |v| (0.0..=MAX_GRAVITATIONAL_CONSTANT).contains(&v);
-    time_step: "finite, > 0 and at most 1e3", |v| v > 0.0 && v <= MAX_TIME_STEP;
-    softening: "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v);
-    shatter_threshold: "finite and >= 0", |v| v >= 0.0;
-    fragment_spread: "finite and between 0 and 10", |v| (0.0..=10.0).contains(&v);
     mass: "finite, > 0 and at most 1e12", |v| v > 0.0 && v <= MAX_MASS;
     max_speed: "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v);
     inner_radius: "finite, from 1e-6 to 1e9", |v| (MIN_RADIUS..=MAX_LENGTH).contains(&v);
@@ -71,7 +54,6 @@ checked_f32! {
     speed_jitter: "finite and between 0 and 1", |v| (0.0..=1.0).contains(&v);
     retrograde_fraction: "finite and between 0 and 1", |v| (0.0..=1.0).contains(&v);
     radius: "finite, > 0 and at most 1e9", |v| v > 0.0 && v <= MAX_LENGTH;
-    min_fragment_size: "finite and >= 0", |v| v >= 0.0;
 }
 
 checked_vec3! {
@@ -94,30 +76,6 @@ pub fn previous_position<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f32;
 /// A body's `half_extents` where given: every component finite and > 0.
 pub fn optional_half_extents<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f32; 3]>, D::Error> {
     half_extents(d).map(Some)
-}
-
-/// `shatter_fragments`: between 2 and [`MAX_FRAGMENTS`] (0 or 1 fragments
-/// would not conserve volume, or divide by zero).
-pub fn shatter_fragments<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    whole_between(d, "shatter_fragments", 2, MAX_FRAGMENTS)
-}
-
-/// `gravity`: `Auto`, `Direct`, or `Tree(theta: θ)` with θ from 0 to
-/// [`MAX_THETA`](crate::resources::MAX_THETA).
-pub fn gravity<'de, D: Deserializer<'de>>(d: D) -> Result<GravityMethod, D::Error> {
-    let method = GravityMethod::deserialize(d).map_err(|e| {
-        D::Error::custom(format!(
-            "field `gravity`: {e} (write `Auto`, `Direct` or `Tree(theta: 0.5)`)"
-        ))
-    })?;
-    method
-        .check()
-        .map_err(|problem| D::Error::custom(format!("field `gravity`: {problem}")))
-}
-
-/// `max_bodies`: from 1 to [`MAX_BODIES`].
-pub fn max_bodies<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
-    whole_between(d, "max_bodies", 1, MAX_BODIES)
 }
 
 /// Longest scenario name, in characters.
@@ -154,11 +112,6 @@ pub fn id<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
 /// `next_id` where given: at most [`MAX_ID`].
 pub fn next_id<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
     whole_between(d, "next_id", 0, MAX_ID).map(Some)
-}
-
-/// `seed`: any whole number from 0 to 2^64 − 1.
-pub fn seed<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
-    whole_between(d, "seed", 0, u64::MAX)
 }
 
 /// A shell's `around`: an index into `bodies` (checked against them

@@ -1,106 +1,86 @@
 //! The scenario file format (docs/design.md, "Scenario files") — a stable
 //! contract: field names and defaults must not change.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize, Serializer};
 
 use super::checked;
 use crate::components::GravityRole;
-use crate::resources::GravityMethod;
+use crate::resources::SimulationSettings;
 
-/// A whole scenario: physics parameters, explicit bodies and generators.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, rename = "Scenario")]
+/// A whole scenario: physics settings, explicit bodies and generators. The
+/// physics settings are fields of the file itself, one per row of the
+/// settings list ([`crate::resources::SETTINGS`]), read and written by it
+/// (`scenario/fields.rs`).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Scenario {
     /// Where the scenario was read from, for messages (not part of the file).
-    #[serde(skip)]
     pub origin: String,
-    /// Shown in summaries and plot titles.
-    #[serde(default = "defaults::name", deserialize_with = "checked::name")]
+    /// Shown in summaries and plot titles; default "Unnamed scenario".
     pub name: String,
-    /// `G`; default 6.674 (the thesis).
-    #[serde(
-        default = "defaults::gravitational_constant",
-        deserialize_with = "checked::gravitational_constant"
-    )]
-    pub gravitational_constant: f32,
-    /// Simulated time per update; default 1.
-    #[serde(default = "defaults::time_step", deserialize_with = "checked::time_step")]
-    pub time_step: f32,
-    /// Gravity's softening length `ε`; default 0.
-    #[serde(default = "defaults::softening", deserialize_with = "checked::softening")]
-    pub softening: f32,
-    /// `Auto` (default: `Direct` below
-    /// [`AUTO_TREE_FROM`](crate::resources::AUTO_TREE_FROM) sources, else
-    /// `Tree(theta: 0.5)`), `Direct` (every source for every adopter) or
-    /// `Tree(theta: 0.5)` (Barnes–Hut, for thousands of sources).
-    #[serde(default, deserialize_with = "checked::gravity")]
-    pub gravity: GravityMethod,
-    /// Impact speed from which two interacting bodies shatter; default 3.
-    #[serde(
-        default = "defaults::shatter_threshold",
-        deserialize_with = "checked::shatter_threshold"
-    )]
-    pub shatter_threshold: f32,
-    /// Fragments per shatter, 2 to 1000; default 5.
-    #[serde(
-        default = "defaults::shatter_fragments",
-        deserialize_with = "checked::shatter_fragments"
-    )]
-    pub shatter_fragments: u32,
-    /// Fragments' speed away from their center of mass, as a share of the
-    /// impact speed (the thesis's "Streuung"), 0 to 10; default 0.2.
-    #[serde(default = "defaults::fragment_spread", deserialize_with = "checked::fragment_spread")]
-    pub fragment_spread: f32,
-    /// Edge length below which a collision bounces instead of making
-    /// fragments (the fragments' edge counts); default 0.5, 0 for none.
-    #[serde(
-        default = "defaults::min_fragment_size",
-        deserialize_with = "checked::min_fragment_size"
-    )]
-    pub min_fragment_size: f32,
-    /// Most bodies: a shatter that would exceed it bounces instead; default
-    /// 1 000 000, at most 20 000 000.
-    #[serde(default = "defaults::max_bodies", deserialize_with = "checked::max_bodies")]
-    pub max_bodies: u64,
-    /// Seed of the generators and of the fragments' spread; default 1.
-    #[serde(default = "defaults::seed", deserialize_with = "checked::seed")]
-    pub seed: u64,
+    /// The physics settings; each omitted one at its default. The stage
+    /// switches are not part of a file and stay on.
+    pub physics: SimulationSettings,
     /// The first id fresh bodies (fragments) get; default: one past the
     /// highest id. Snapshots set it, so that a continued run hands out the
     /// same ids as the run it was saved from.
-    #[serde(default, deserialize_with = "checked::next_id")]
     pub next_id: Option<u64>,
     /// Explicitly placed bodies: ids 0, 1, 2… in file order, or each its
     /// own `id` (all of them or none).
-    #[serde(default)]
     pub bodies: Vec<Body>,
     /// Seeded random bodies, ids after the explicit ones.
-    #[serde(default)]
     pub generators: Vec<Generator>,
 }
 
+impl Default for Scenario {
+    fn default() -> Self {
+        Self {
+            origin: String::new(),
+            name: "Unnamed scenario".to_owned(),
+            physics: SimulationSettings::DEFAULT,
+            next_id: None,
+            bodies: Vec::new(),
+            generators: Vec::new(),
+        }
+    }
+}
+
 /// One explicitly placed body.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename = "Body")]
 pub struct Body {
     /// The body's id (snapshots); default: its place in the list.
-    #[serde(default, deserialize_with = "checked::id")]
+    #[serde(
+        default,
+        deserialize_with = "checked::id",
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "given"
+    )]
     pub id: Option<u64>,
     /// Center of the box; required.
     #[serde(deserialize_with = "checked::position")]
     pub position: [f32; 3],
     /// Where the body was an update ago (snapshots); default: `position`.
-    #[serde(default, deserialize_with = "checked::previous_position")]
+    #[serde(
+        default,
+        deserialize_with = "checked::previous_position",
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "given"
+    )]
     pub previous_position: Option<[f32; 3]>,
     /// Default (0, 0, 0).
     #[serde(default, deserialize_with = "checked::velocity")]
     pub velocity: [f32; 3],
     /// A box's half extents; default (1, 1, 1): a unit cube, edge 2. Not
     /// with `shape: Sphere`, whose size is its radius.
-    #[serde(default, deserialize_with = "checked::optional_half_extents")]
+    #[serde(
+        default,
+        deserialize_with = "checked::optional_half_extents",
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "given"
+    )]
     pub half_extents: Option<[f32; 3]>,
     /// `Box` (default) or `Sphere(radius: R)`, for non-interacting bodies.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Shape::is_box")]
     pub shape: Shape,
     /// Default 1.
     #[serde(default = "defaults::mass", deserialize_with = "checked::mass")]
@@ -114,7 +94,7 @@ pub struct Body {
 }
 
 /// What an explicit body collides as.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize, Serialize)]
 pub enum Shape {
     /// An axis-aligned box of the body's `half_extents`.
     #[default]
@@ -125,6 +105,22 @@ pub enum Shape {
         #[serde(deserialize_with = "checked::radius")]
         radius: f32,
     },
+}
+
+impl Shape {
+    /// Whether this is the default, a box.
+    pub fn is_box(&self) -> bool {
+        matches!(self, Self::Box)
+    }
+}
+
+/// Writes an optional field that is there as its value alone, as files
+/// write it (`id: 4`, not `id: Some(4)`).
+fn given<T: Serialize, S: Serializer>(value: &Option<T>, out: S) -> Result<S::Ok, S::Error> {
+    match value {
+        Some(value) => value.serialize(out),
+        None => out.serialize_none(),
+    }
 }
 
 impl Body {
@@ -140,7 +136,7 @@ impl Body {
 
 /// Seeded random bodies. Each generator draws from its own random stream,
 /// derived from the scenario seed and its position in the list.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 pub enum Generator {
     /// The thesis cloud: bodies uniform in a box, velocity components uniform
     /// in `[-max_speed, max_speed)`, none starting inside a non-interacting body.
@@ -150,7 +146,7 @@ pub enum Generator {
 }
 
 /// See [`Generator::Cloud`].
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Cloud {
     /// Bodies to make.
@@ -171,7 +167,7 @@ pub struct Cloud {
 }
 
 /// See [`Generator::Shell`].
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Shell {
     /// Bodies to make.
@@ -202,7 +198,7 @@ pub struct Shell {
 }
 
 /// What every generated body is made of: a `Body` without position and velocity.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Template {
     /// As [`Body::half_extents`].
@@ -230,43 +226,8 @@ impl Default for Template {
     }
 }
 
-/// Defaults of omitted fields; the physics ones are
-/// [`SimulationSettings::DEFAULT`](crate::resources::SimulationSettings::DEFAULT)'s.
+/// Defaults of omitted body and generator fields.
 mod defaults {
-    use crate::resources::SimulationSettings;
-
-    const PHYSICS: SimulationSettings = SimulationSettings::DEFAULT;
-
-    pub fn name() -> String {
-        "Unnamed scenario".to_owned()
-    }
-    pub fn gravitational_constant() -> f32 {
-        PHYSICS.gravitational_constant
-    }
-    pub fn time_step() -> f32 {
-        PHYSICS.time_step
-    }
-    pub fn softening() -> f32 {
-        PHYSICS.softening
-    }
-    pub fn shatter_threshold() -> f32 {
-        PHYSICS.shatter_threshold
-    }
-    pub fn shatter_fragments() -> u32 {
-        PHYSICS.shatter_fragments
-    }
-    pub fn fragment_spread() -> f32 {
-        PHYSICS.fragment_spread
-    }
-    pub fn seed() -> u64 {
-        PHYSICS.seed
-    }
-    pub fn min_fragment_size() -> f32 {
-        PHYSICS.min_fragment_size
-    }
-    pub fn max_bodies() -> u64 {
-        PHYSICS.max_bodies
-    }
     pub fn half_extents() -> [f32; 3] {
         [1.0; 3]
     }

@@ -157,19 +157,7 @@ impl Scenario {
 
     /// The simulation settings this scenario asks for (all stages on).
     pub fn settings(&self) -> SimulationSettings {
-        SimulationSettings {
-            gravitational_constant: self.gravitational_constant,
-            time_step: self.time_step,
-            softening: self.softening,
-            gravity_method: self.gravity,
-            shatter_threshold: self.shatter_threshold,
-            shatter_fragments: self.shatter_fragments,
-            fragment_spread: self.fragment_spread,
-            min_fragment_size: self.min_fragment_size,
-            max_bodies: self.max_bodies,
-            seed: self.seed,
-            ..SimulationSettings::default()
-        }
+        self.physics.clone()
     }
 
     /// Number of bodies [`bodies`](Self::bodies) will create.
@@ -201,7 +189,7 @@ impl Scenario {
         }));
         let mut first_id = self.first_generated_id();
         for (i, generator) in self.generators.iter().enumerate() {
-            let mut rng = Rng::stream(self.seed, i as u64);
+            let mut rng = Rng::stream(self.physics.seed, i as u64);
             match generator {
                 Generator::Cloud(c) => generators::cloud(c, &mut rng, first_id, &self.bodies, &mut out)
                     .map_err(|e| InputError::new(&self.origin, format!("generators[{i}] (Cloud): {e}")))?,
@@ -212,7 +200,7 @@ impl Scenario {
                         &mut rng,
                         first_id,
                         &self.bodies[s.around],
-                        self.gravitational_constant,
+                        self.physics.gravitational_constant,
                         &mut out,
                     );
                 }
@@ -242,9 +230,19 @@ mod tests {
             "example",
         )
         .unwrap();
-        assert_eq!((s.gravitational_constant, s.time_step, s.softening), (6.674, 1.0, 0.0));
-        assert_eq!((s.shatter_threshold, s.shatter_fragments, s.seed), (3.0, 5, 1));
-        assert_eq!(s.fragment_spread, 0.2, "the thesis's spread by default");
+        assert_eq!(
+            (
+                s.physics.gravitational_constant,
+                s.physics.time_step,
+                s.physics.softening
+            ),
+            (6.674, 1.0, 0.0)
+        );
+        assert_eq!(
+            (s.physics.shatter_threshold, s.physics.shatter_fragments, s.physics.seed),
+            (3.0, 5, 1)
+        );
+        assert_eq!(s.physics.fragment_spread, 0.2, "the thesis's spread by default");
         let bodies = s.bodies().unwrap();
         assert_eq!(bodies.len(), 2);
         let b = bodies[1];
@@ -318,7 +316,15 @@ mod tests {
         assert!(a.iter().enumerate().all(|(i, b)| b.id == BodyId(i as u64)));
         assert_eq!(a[50].mass, 2.0);
         assert_eq!(a, s.bodies().unwrap());
-        let other = Scenario { seed: 5, ..s }.bodies().unwrap();
+        let other = Scenario {
+            physics: SimulationSettings {
+                seed: 5,
+                ..s.physics.clone()
+            },
+            ..s
+        }
+        .bodies()
+        .unwrap();
         assert_ne!(a[1].position, other[1].position);
     }
 }

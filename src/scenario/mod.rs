@@ -3,6 +3,7 @@
 
 mod builtin;
 pub mod checked;
+mod fields;
 mod format;
 pub mod generators;
 mod load;

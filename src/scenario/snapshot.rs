@@ -6,9 +6,12 @@
 
 use std::io::{self, Write};
 
+use ron::ser::PrettyConfig;
+
 use super::checked::MAX_STATE;
+use super::format::{Body, Scenario, Shape};
 use crate::components::BodyState;
-use crate::resources::{GravityMethod, SimulationSettings};
+use crate::resources::SimulationSettings;
 
 /// What a snapshot holds.
 #[derive(Clone, Copy, Debug)]
@@ -25,13 +28,50 @@ pub struct Snapshot<'a> {
     pub next_id: u64,
 }
 
-/// A vector as RON, each component in the shortest form that reads back
-/// as the same `f32`.
-fn vector(v: bevy::math::Vec3) -> String {
-    format!("({:?}, {:?}, {:?})", v.x, v.y, v.z)
+impl Snapshot<'_> {
+    /// The state as a scenario: every body explicit with its id and
+    /// previous position, no generators, `next_id` set.
+    pub fn to_scenario(&self) -> Scenario {
+        let bodies = self
+            .bodies
+            .iter()
+            .map(|b| {
+                // A ball's size is its radius; a box's, its half extents.
+                let (half_extents, shape) = if b.spherical {
+                    (
+                        None,
+                        Shape::Sphere {
+                            radius: b.half_extents.x,
+                        },
+                    )
+                } else {
+                    (Some(b.half_extents.to_array()), Shape::Box)
+                };
+                Body {
+                    id: Some(b.id.0),
+                    position: b.position.to_array(),
+                    previous_position: Some(b.previous.to_array()),
+                    velocity: b.velocity.to_array(),
+                    half_extents,
+                    shape,
+                    mass: b.mass,
+                    role: b.role,
+                    interacts: b.interacts,
+                }
+            })
+            .collect();
+        Scenario {
+            name: self.name.to_owned(),
+            physics: self.settings.clone(),
+            next_id: Some(self.next_id),
+            bodies,
+            ..Scenario::default()
+        }
+    }
 }
 
-/// Writes `snapshot` as a scenario file.
+/// Writes `snapshot` as a scenario file: a comment line, then the scenario
+/// as RON, a field a line and a body a line.
 pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Result<()> {
     BodyState::check_all_finite(snapshot.bodies)?;
     // What a scenario file may hold, so that the snapshot loads back.
@@ -49,52 +89,15 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
             ),
         ));
     }
-    let s = snapshot.settings;
     let name = ron::to_string(snapshot.name).map_err(io::Error::other)?;
     writeln!(
         out,
         "// A snapshot of {name} after {} updates, written by Kessler: every body with its id.",
         snapshot.updates
     )?;
-    writeln!(out, "Scenario(")?;
-    writeln!(out, "    name: {name},")?;
-    writeln!(out, "    gravitational_constant: {:?},", s.gravitational_constant)?;
-    writeln!(out, "    time_step: {:?},", s.time_step)?;
-    writeln!(out, "    softening: {:?},", s.softening)?;
-    match s.gravity_method {
-        GravityMethod::Auto => writeln!(out, "    gravity: Auto,")?,
-        GravityMethod::Direct => writeln!(out, "    gravity: Direct,")?,
-        GravityMethod::Tree { theta } => writeln!(out, "    gravity: Tree(theta: {theta:?}),")?,
-    }
-    writeln!(out, "    shatter_threshold: {:?},", s.shatter_threshold)?;
-    writeln!(out, "    shatter_fragments: {},", s.shatter_fragments)?;
-    writeln!(out, "    fragment_spread: {:?},", s.fragment_spread)?;
-    writeln!(out, "    min_fragment_size: {:?},", s.min_fragment_size)?;
-    writeln!(out, "    max_bodies: {},", s.max_bodies)?;
-    writeln!(out, "    seed: {},", s.seed)?;
-    writeln!(out, "    next_id: {},", snapshot.next_id)?;
-    writeln!(out, "    bodies: [")?;
-    for b in snapshot.bodies {
-        // A ball's size is its radius; a box's, its half extents.
-        let size = if b.spherical {
-            format!("shape: Sphere(radius: {:?})", b.half_extents.x)
-        } else {
-            format!("half_extents: {}", vector(b.half_extents))
-        };
-        writeln!(
-            out,
-            "        Body(id: {}, position: {}, previous_position: {}, velocity: {}, {size}, mass: {:?}, role: {:?}, interacts: {}),",
-            b.id.0,
-            vector(b.position),
-            vector(b.previous),
-            vector(b.velocity),
-            b.mass,
-            b.role,
-            b.interacts
-        )?;
-    }
-    writeln!(out, "    ],")?;
-    writeln!(out, ")")?;
+    let layout = PrettyConfig::new().struct_names(true).depth_limit(2);
+    let text = ron::ser::to_string_pretty(&snapshot.to_scenario(), layout).map_err(io::Error::other)?;
+    writeln!(out, "{text}")?;
     out.flush()
 }
 
@@ -104,7 +107,7 @@ mod tests {
 
     use super::*;
     use crate::components::{BodyId, GravityRole};
-    use crate::scenario::Scenario;
+    use crate::resources::GravityMethod;
 
     #[test]
     fn a_snapshot_reads_back_bit_for_bit() {
@@ -177,6 +180,55 @@ mod tests {
             read.iter().map(bits).collect::<Vec<_>>(),
             bodies.iter().map(bits).collect::<Vec<_>>()
         );
+    }
+
+    #[test]
+    fn every_setting_round_trips_through_a_snapshot() {
+        // Every setting away from its default (a new setting must be given
+        // a value here: the loop below names the one that is not).
+        let settings = SimulationSettings {
+            gravitational_constant: 0.25,
+            time_step: 0.125,
+            softening: 3.5,
+            gravity_method: GravityMethod::Tree { theta: 0.75 },
+            shatter_threshold: 0.0,
+            shatter_fragments: 1000,
+            fragment_spread: 10.0,
+            min_fragment_size: 0.0,
+            max_bodies: crate::resources::MAX_BODIES,
+            seed: 0,
+            ..SimulationSettings::default()
+        };
+        assert_eq!(settings.problems(), []);
+        let defaults = SimulationSettings::DEFAULT;
+        for s in crate::resources::SETTINGS {
+            assert_ne!(
+                settings.shown(s.key),
+                defaults.shown(s.key),
+                "{} is at its default",
+                s.key
+            );
+        }
+        let snapshot = Snapshot {
+            name: "settings",
+            updates: 0,
+            settings: &settings,
+            bodies: &[],
+            next_id: 0,
+        };
+        let mut text = Vec::new();
+        write_snapshot(&snapshot, &mut text).unwrap();
+        let text = String::from_utf8(text).unwrap();
+        let scenario = Scenario::parse(&text, "snapshot").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(scenario.settings(), settings, "{text}");
+        // And back again: the scenario written from the file is the file.
+        let again = Snapshot {
+            settings: &scenario.settings(),
+            ..snapshot
+        };
+        let mut second = Vec::new();
+        write_snapshot(&again, &mut second).unwrap();
+        assert_eq!(String::from_utf8(second).unwrap(), text);
     }
 
     #[test]

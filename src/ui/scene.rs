@@ -99,7 +99,7 @@ pub fn build_bodies(
     settings: &SandboxSettings,
 ) -> Result<(Vec<BodyState>, SimulationSettings), SceneError> {
     let mut scenario = scenario.clone();
-    scenario.seed = settings.seed;
+    scenario.physics.seed = settings.seed;
     if let Some(count) = settings.body_count {
         scenario = scenario.with_generated(count)?;
     }
@@ -199,7 +199,7 @@ mod tests {
         let (_, physics) = build_bodies(&scenario, &settings).unwrap();
         assert!(!physics.gravity && physics.collisions && !physics.collision_response);
         assert_eq!((physics.shatter_fragments, physics.shatter_threshold), (9, 1.5));
-        assert_eq!(physics.time_step, scenario.time_step);
+        assert_eq!(physics.time_step, scenario.physics.time_step);
     }
 
     #[test]

@@ -1,0 +1,100 @@
+//! A scenario file's top-level fields, read and written: its own (`name`,
+//! `next_id`, `bodies`, `generators`) and every physics setting of the
+//! settings list, by the list's names and rules. Written by hand rather
+//! than derived because serde cannot flatten the list's struct into one
+//! that denies unknown fields, and denying them is what turns a misspelled
+//! field into an error.
+
+use std::fmt;
+
+use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::ser::{SerializeStruct, Serializer};
+use serde::{Deserialize, Serialize};
+
+use super::checked;
+use super::format::Scenario;
+use crate::resources::{SETTINGS, unknown_setting};
+
+/// The scenario's own fields, in file order (the settings come after
+/// `name`).
+const OWN: [&str; 4] = ["name", "next_id", "bodies", "generators"];
+
+/// A checked `name`.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Name(#[serde(deserialize_with = "checked::name")] String);
+
+/// A checked `next_id`.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct NextId(#[serde(deserialize_with = "checked::next_id")] Option<u64>);
+
+/// A field's name, as the file writes it (an identifier).
+struct Key(String);
+
+impl<'de> Deserialize<'de> for Key {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct KeyVisitor;
+        impl Visitor<'_> for KeyVisitor {
+            type Value = Key;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a field name")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Key, E> {
+                Ok(Key(v.to_owned()))
+            }
+        }
+        d.deserialize_identifier(KeyVisitor)
+    }
+}
+
+impl<'de> Deserialize<'de> for Scenario {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct ScenarioVisitor;
+        impl<'de> Visitor<'de> for ScenarioVisitor {
+            type Value = Scenario;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a Scenario(...)")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Scenario, A::Error> {
+                let mut scenario = Scenario::default();
+                let mut seen: Vec<String> = Vec::new();
+                while let Some(Key(key)) = map.next_key()? {
+                    if seen.contains(&key) {
+                        return Err(de::Error::custom(format!("duplicate field `{key}`")));
+                    }
+                    match key.as_str() {
+                        "name" => scenario.name = map.next_value::<Name>()?.0,
+                        "next_id" => scenario.next_id = map.next_value::<NextId>()?.0,
+                        "bodies" => scenario.bodies = map.next_value()?,
+                        "generators" => scenario.generators = map.next_value()?,
+                        other => {
+                            if !scenario.physics.read_field(other, &mut map)? {
+                                return Err(unknown_setting(other, &OWN));
+                            }
+                        }
+                    }
+                    seen.push(key);
+                }
+                Ok(scenario)
+            }
+        }
+        d.deserialize_struct("Scenario", &OWN, ScenarioVisitor)
+    }
+}
+
+impl Serialize for Scenario {
+    fn serialize<S: Serializer>(&self, out: S) -> Result<S::Ok, S::Error> {
+        let mut s = out.serialize_struct("Scenario", OWN.len() + SETTINGS.len())?;
+        s.serialize_field("name", &self.name)?;
+        self.physics.serialize_fields(&mut s)?;
+        if let Some(next_id) = self.next_id {
+            s.serialize_field("next_id", &next_id)?;
+        }
+        s.serialize_field("bodies", &self.bodies)?;
+        if !self.generators.is_empty() {
+            s.serialize_field("generators", &self.generators)?;
+        }
+        s.end()
+    }
+}
