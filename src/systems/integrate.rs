@@ -1,4 +1,4 @@
-//! Stage 2: semi-implicit Euler integration (docs/design.md, "Integration").
+//! The integrate stage: semi-implicit Euler (docs/design.md, "Integration").
 //!
 //! Adopters have already taken their kick `v += a·dt` in the gravity stage
 //! (so no acceleration is stored); here every body moves `p += v·dt`, the

@@ -1,4 +1,4 @@
-//! Stage 4: collision response — bounce, push-back, separate, or mark for
+//! The response stage: bounce, push-back, separate, or mark for
 //! shattering (docs/design.md, "Response").
 //!
 //! Pairs are taken in sorted order and each interacting body takes part in

@@ -1,4 +1,4 @@
-//! Stage 5: shattering — pairs marked by the response are removed and
+//! The shatter stage: pairs marked by the response are removed and
 //! replaced by fragments (docs/design.md, "Shatter").
 //!
 //! `c` fragments share the pair's mass equally, keep its total box volume

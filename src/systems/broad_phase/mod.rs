@@ -1,4 +1,4 @@
-//! Stages 3 and 4, the broad phase: sweep and prune over a y–z grid — every
+//! The sort and sweep stages, the broad phase: sweep and prune over a y–z grid — every
 //! pair of overlapping boxes (docs/design.md, "Broad phase").
 //!
 //! A single sweep along x degrades when many boxes share an x range (a dense
