@@ -5,28 +5,17 @@ use bevy::prelude::*;
 use bevy::window::WindowResolution;
 use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
 
-use super::atmosphere::AtmospherePlugin;
-use super::backdrop::BackdropPlugin;
-use super::camera::CameraPlugin;
-use super::capture::{CapturePlugin, ScriptedRun};
-use super::cascade::CascadePlugin;
-use super::celestials::CelestialsPlugin;
-use super::drive::DrivePlugin;
-use super::frame_stats::FrameStatsPlugin;
-use super::gpu_memory::GpuMemoryPlugin;
-use super::hud::HudPlugin;
-use super::instancing::InstancingPlugin;
-use super::meshes::MeshesPlugin;
-use super::panel::PanelPlugin;
-use super::present_mode::{PresentModePlugin, present_mode};
-use super::scene::{SandboxState, ScenePlugin};
-use super::selection::SelectionPlugin;
+use super::draw::{
+    AtmospherePlugin, BackdropPlugin, CelestialsPlugin, InstancingPlugin, MeshesPlugin, PresentModePlugin,
+    TrailsPlugin, present_mode,
+};
+use super::measure::{CapturePlugin, FrameStatsPlugin, GpuMemoryPlugin, ScriptedRun};
+use super::overlay::{CascadePlugin, HudPlugin, PanelPlugin};
+use super::session::{
+    DrivePlugin, SandboxState, ScenePlugin, SettingsFilePlugin, SnapshotSavePlugin, Start, WindowError, WindowOptions,
+};
 use super::sets::SandboxSystems;
-use super::settings_file::SettingsFilePlugin;
-use super::snapshot_save::SnapshotSavePlugin;
-use super::startup::Start;
-use super::trails::TrailsPlugin;
-use super::window_options::{WindowError, WindowOptions};
+use super::view::{CameraPlugin, SelectionPlugin};
 use crate::execution::Execution;
 use crate::systems::SimulationPlugins;
 
