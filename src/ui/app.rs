@@ -1,21 +1,16 @@
-//! `kessler run`: the window app — its plugins, and the order of a frame's
+//! `kessler run`: the window app — Bevy's, egui's and the simulation's
+//! plugins, the window's own ([`SandboxPlugins`]), and the order of a frame's
 //! phases (`SandboxSystems`), chained here and nowhere else.
 
 use bevy::prelude::*;
 use bevy::window::WindowResolution;
 use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
 
-use super::draw::{
-    AtmospherePlugin, BackdropPlugin, CelestialsPlugin, InstancingPlugin, MeshesPlugin, PresentModePlugin,
-    TrailsPlugin, present_mode,
-};
-use super::measure::{CapturePlugin, FrameStatsPlugin, GpuMemoryPlugin, ScriptedRun};
-use super::overlay::{CascadePlugin, HudPlugin, PanelPlugin};
-use super::session::{
-    DrivePlugin, SandboxState, ScenePlugin, SettingsFilePlugin, SnapshotSavePlugin, Start, WindowError, WindowOptions,
-};
+use super::draw::present_mode;
+use super::measure::{CapturePlugin, GpuMemoryPlugin, ScriptedRun};
+use super::plugins::SandboxPlugins;
+use super::session::{SandboxState, Start, WindowError, WindowOptions};
 use super::sets::SandboxSystems;
-use super::view::{CameraPlugin, SelectionPlugin};
 use crate::execution::Execution;
 use crate::systems::SimulationPlugins;
 
@@ -70,26 +65,9 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         EguiPrimaryContextPass,
         (SandboxSystems::Panel, SandboxSystems::Hud).chain(),
     )
-    .add_plugins((
-        ScenePlugin,
-        DrivePlugin,
-        BackdropPlugin,
-        AtmospherePlugin,
-        CelestialsPlugin,
-        InstancingPlugin,
-        MeshesPlugin,
-        PresentModePlugin,
-        CameraPlugin,
-        SelectionPlugin,
-        PanelPlugin,
-        HudPlugin,
-        FrameStatsPlugin {
-            record_all: options.frames.is_some(),
-        },
-        SettingsFilePlugin,
-        SnapshotSavePlugin,
-    ))
-    .add_plugins((CascadePlugin, TrailsPlugin));
+    .add_plugins(SandboxPlugins {
+        record_all_frames: options.frames.is_some(),
+    });
     if let Some(frames) = options.frames {
         let mut run = ScriptedRun::new(frames, options.screenshot.clone());
         run.frame_report.clone_from(&options.frame_report);

@@ -1,6 +1,7 @@
-//! The interactive window (feature `gui`): one plugin per concern, added by
-//! `app.rs`, which also chains the frame's phases ([`sets`]). The plugins
-//! live in folders by concern, which depend on each other one way: [`session`] (options, settings, scene,
+//! The interactive window (feature `gui`): one plugin per concern, gathered
+//! in [`SandboxPlugins`] and added by `app.rs`, which also chains the
+//! frame's phases ([`sets`]). The plugins live in folders by concern, which
+//! depend on each other one way: [`session`] (options, settings, scene,
 //! update clock) on nothing of the window but the phases; [`view`] (cameras,
 //! picking) on it; [`draw`] (what is drawn, and how) on both; [`measure`]
 //! (frame times, GPU memory, scripted runs) on `session` and `draw`;
@@ -12,10 +13,12 @@ mod app;
 pub mod draw;
 pub mod measure;
 pub mod overlay;
+mod plugins;
 pub mod session;
 pub mod sets;
 pub mod view;
 
 pub use crate::draw_method::DrawMethod;
 pub use app::run;
+pub use plugins::SandboxPlugins;
 pub use session::{WindowError, WindowOptions};
