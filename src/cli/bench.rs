@@ -33,7 +33,7 @@ pub fn bench(
     // (A build without the window refused `Render` runs as it loaded.)
     #[cfg(feature = "gui")]
     if let Some((i, _)) = config.render_runs().next()
-        && crate::ui::startup::no_display()
+        && crate::ui::session::no_display()
     {
         return Err(Failure::input(format!(
             "{}: runs[{i}]: `Render` runs open the window, and there is no X11 display (DISPLAY is not set): \

@@ -1,32 +1,16 @@
-//! `kessler run`: the window app — its plugins, and the order of a frame's
+//! `kessler run`: the window app — Bevy's, egui's and the simulation's
+//! plugins, the window's own ([`SandboxPlugins`]), and the order of a frame's
 //! phases (`SandboxSystems`), chained here and nowhere else.
 
 use bevy::prelude::*;
 use bevy::window::WindowResolution;
 use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
 
-use super::atmosphere::AtmospherePlugin;
-use super::backdrop::BackdropPlugin;
-use super::camera::CameraPlugin;
-use super::capture::{CapturePlugin, ScriptedRun};
-use super::cascade::CascadePlugin;
-use super::celestials::CelestialsPlugin;
-use super::drive::DrivePlugin;
-use super::frame_stats::FrameStatsPlugin;
-use super::gpu_memory::GpuMemoryPlugin;
-use super::hud::HudPlugin;
-use super::instancing::InstancingPlugin;
-use super::meshes::MeshesPlugin;
-use super::panel::PanelPlugin;
-use super::present_mode::{PresentModePlugin, present_mode};
-use super::scene::{SandboxState, ScenePlugin};
-use super::selection::SelectionPlugin;
+use super::draw::present_mode;
+use super::measure::{CapturePlugin, GpuMemoryPlugin, ScriptedRun};
+use super::plugins::SandboxPlugins;
+use super::session::{SandboxState, Start, WindowError, WindowOptions};
 use super::sets::SandboxSystems;
-use super::settings_file::SettingsFilePlugin;
-use super::snapshot_save::SnapshotSavePlugin;
-use super::startup::Start;
-use super::trails::TrailsPlugin;
-use super::window_options::{WindowError, WindowOptions};
 use crate::execution::Execution;
 use crate::systems::SimulationPlugins;
 
@@ -81,26 +65,9 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         EguiPrimaryContextPass,
         (SandboxSystems::Panel, SandboxSystems::Hud).chain(),
     )
-    .add_plugins((
-        ScenePlugin,
-        DrivePlugin,
-        BackdropPlugin,
-        AtmospherePlugin,
-        CelestialsPlugin,
-        InstancingPlugin,
-        MeshesPlugin,
-        PresentModePlugin,
-        CameraPlugin,
-        SelectionPlugin,
-        PanelPlugin,
-        HudPlugin,
-        FrameStatsPlugin {
-            record_all: options.frames.is_some(),
-        },
-        SettingsFilePlugin,
-        SnapshotSavePlugin,
-    ))
-    .add_plugins((CascadePlugin, TrailsPlugin));
+    .add_plugins(SandboxPlugins {
+        record_all_frames: options.frames.is_some(),
+    });
     if let Some(frames) = options.frames {
         let mut run = ScriptedRun::new(frames, options.screenshot.clone());
         run.frame_report.clone_from(&options.frame_report);

@@ -12,7 +12,7 @@ use bevy::shader::ShaderRef;
 use bevy::transform::TransformSystems;
 
 use super::backdrop::sun_direction;
-use super::main_camera::MainCamera;
+use crate::ui::view::MainCamera;
 
 const SHADER: Handle<Shader> = uuid_handle!("9d3a41c2-6b1e-4f0a-8c55-2e7b9a1f4d60");
 

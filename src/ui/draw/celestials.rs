@@ -11,8 +11,8 @@ use bevy::transform::TransformSystems;
 use super::atmosphere::{AtmosphereMaterial, AtmosphereVisual, ring_mesh};
 use super::body_colors::is_celestial;
 use super::planet_texture::{self, Picture};
-use super::settings::SandboxSettings;
 use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Mass, Position};
+use crate::ui::session::SandboxSettings;
 
 /// A sphere standing for a celestial body.
 #[derive(Component, Debug)]

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use bevy::prelude::*;
 use ron::extensions::Extensions;
 
-use super::settings::SandboxSettings;
+use super::sandbox_settings::SandboxSettings;
 use crate::input::{parse_ron, read_text_if_present};
 use crate::output::{WriteError, write_atomically};
 
@@ -189,7 +189,7 @@ mod tests {
     use super::*;
     use crate::draw_method::DrawMethod;
     use crate::execution::{ExecutionMode, SplitPolicy};
-    use crate::ui::settings::CameraMode;
+    use crate::ui::session::sandbox_settings::CameraMode;
 
     #[cfg(unix)]
     #[test]
@@ -391,7 +391,7 @@ mod tests {
             ..settings
         };
         let now = SandboxSettings {
-            trails: crate::ui::settings::TrailChoice::Newest,
+            trails: crate::ui::session::sandbox_settings::TrailChoice::Newest,
             ..file.initial.clone()
         };
         assert_eq!(file.save_if_changed(&now).unwrap(), ["trails"]);
@@ -399,7 +399,7 @@ mod tests {
         assert_eq!(
             saved,
             SandboxSettings {
-                trails: crate::ui::settings::TrailChoice::Newest,
+                trails: crate::ui::session::sandbox_settings::TrailChoice::Newest,
                 ..SandboxSettings::default()
             }
         );

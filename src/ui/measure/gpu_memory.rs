@@ -10,7 +10,7 @@ use bevy::prelude::*;
 use bevy::render::renderer::{RenderAdapterInfo, RenderDevice};
 use bevy::render::{Render, RenderApp, RenderSystems};
 
-use super::instanced_draw::BodyInstanceBuffer;
+use crate::ui::draw::BodyInstanceBuffer;
 
 /// Frames between two readings (an allocator report lists every
 /// allocation, so it is not free).

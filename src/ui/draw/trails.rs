@@ -11,12 +11,12 @@ use bevy::mesh::PrimitiveTopology;
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 
-use super::clock::UpdateClock;
-use super::scene::SandboxState;
-use super::selection::Selection;
-use super::sets::SandboxSystems;
-use super::settings::{SandboxSettings, TrailChoice};
 use crate::components::{BodyId, Interacts, Position, Velocity};
+use crate::ui::session::SandboxState;
+use crate::ui::session::UpdateClock;
+use crate::ui::session::{SandboxSettings, TrailChoice};
+use crate::ui::sets::SandboxSystems;
+use crate::ui::view::Selection;
 
 /// Positions kept per trail: one per frame that ran updates.
 pub const TRAIL_POINTS: usize = 300;

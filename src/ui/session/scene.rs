@@ -5,14 +5,14 @@ use std::path::PathBuf;
 
 use bevy::prelude::*;
 
-use super::sets::SandboxSystems;
-use super::settings::SandboxSettings;
+use super::sandbox_settings::SandboxSettings;
 use crate::components::{BodyId, BodyState};
 use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{NoGenerators, Scenario};
 use crate::simulation::spawn_bodies;
 use crate::systems::{CollisionStats, GravityInUse, OverlappingPairs, SimulationFault, StageTimings};
+use crate::ui::sets::SandboxSystems;
 
 /// State of the sandbox beyond its settings.
 #[derive(Resource, Debug)]

@@ -10,9 +10,9 @@ use bevy_panorbit_camera::{PanOrbitCamera, PanOrbitCameraPlugin};
 
 use super::main_camera::MainCamera;
 use super::selection::{Selection, select_on_click};
-use super::sets::SandboxSystems;
-use super::settings::{CameraMode, SandboxSettings};
 use crate::components::{BodyId, Position};
+use crate::ui::session::{CameraMode, SandboxSettings};
+use crate::ui::sets::SandboxSystems;
 
 /// Distance of the camera from the origin at start, before the first scene
 /// is framed.

@@ -5,13 +5,13 @@ use std::time::{Duration, Instant};
 
 use bevy::prelude::*;
 
-use super::clock::{UpdateClock, updates_within_budget};
+use super::sandbox_settings::SandboxSettings;
 use super::scene::SandboxState;
-use super::sets::SandboxSystems;
-use super::settings::SandboxSettings;
+use super::update_clock::{UpdateClock, updates_within_budget};
 use crate::execution::Execution;
 use crate::resources::SimulationSettings;
 use crate::systems::{SimulationFault, StageTimings, run_updates};
+use crate::ui::sets::SandboxSystems;
 
 /// Longest a frame spends simulating before it drops the updates it still
 /// owes (keeps the window responsive: at least about 20 frames per second

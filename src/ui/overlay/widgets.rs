@@ -6,7 +6,7 @@
 //! or a scenario beyond a slider's (convenient, narrower) range would be
 //! changed silently, and the changed setting saved. These widgets clamp
 //! only what the user enters. The bounds a value is held to are checked
-//! once, where it is loaded ([`SandboxSettings::sanitize`](super::settings::SandboxSettings::sanitize)),
+//! once, where it is loaded ([`SandboxSettings::sanitize`](crate::ui::session::SandboxSettings::sanitize)),
 //! with a warning.
 
 use std::ops::RangeInclusive;

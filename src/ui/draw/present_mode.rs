@@ -4,7 +4,7 @@
 use bevy::prelude::*;
 use bevy::window::{PresentMode, PrimaryWindow};
 
-use super::settings::SandboxSettings;
+use crate::ui::session::SandboxSettings;
 
 /// Keeps the primary window's present mode in line with the vsync setting.
 pub struct PresentModePlugin;

@@ -5,15 +5,15 @@ use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
 use super::cascade::{Cascade, curve_plot};
-use super::clock::UpdateClock;
-use super::frame_stats::{FrameStats, HISTORY};
-use super::scene::SandboxState;
-use super::sets::SandboxSystems;
-use super::settings::SandboxSettings;
-use super::settings_file::SettingsFile;
 use crate::components::BodyId;
 use crate::resources::GravityMethod;
 use crate::systems::{CollisionStats, GravityInUse, STAGES, StageTimings, Timing};
+use crate::ui::measure::{FrameStats, HISTORY};
+use crate::ui::session::SandboxSettings;
+use crate::ui::session::SandboxState;
+use crate::ui::session::SettingsFile;
+use crate::ui::session::UpdateClock;
+use crate::ui::sets::SandboxSystems;
 
 /// The HUD window at the top right.
 pub struct HudPlugin;

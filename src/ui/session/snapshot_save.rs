@@ -7,13 +7,13 @@ use std::path::PathBuf;
 
 use bevy::prelude::*;
 
-use super::clock::UpdateClock;
 use super::scene::SandboxState;
-use super::sets::SandboxSystems;
+use super::update_clock::UpdateClock;
 use crate::components::{BodyState, BodyStateQuery};
 use crate::output::{check_new, write_atomically};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{Snapshot, write_snapshot};
+use crate::ui::sets::SandboxSystems;
 
 /// A save the panel asked for, and how the last one went.
 #[derive(Resource, Debug, Default)]
@@ -67,7 +67,7 @@ mod tests {
     use super::*;
     use crate::scenario::Scenario;
     use crate::simulation::spawn_bodies;
-    use crate::ui::settings::SandboxSettings;
+    use crate::ui::session::sandbox_settings::SandboxSettings;
 
     #[test]
     fn a_saved_snapshot_loads_back_and_an_existing_file_is_kept() {

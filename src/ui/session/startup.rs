@@ -1,7 +1,7 @@
 //! What the window starts with: the checks made before it opens, the saved
 //! settings, the command line's overrides, and the first scenario.
 
-use super::settings::SandboxSettings;
+use super::sandbox_settings::SandboxSettings;
 use super::settings_file::{SettingsFile, default_settings_path};
 use super::window_options::{WindowError, WindowOptions};
 use crate::output::{check_extension, check_new};

@@ -5,8 +5,8 @@ use bevy::prelude::*;
 use bevy_egui::input::EguiWantsInput;
 
 use super::main_camera::MainCamera;
-use super::sets::SandboxSystems;
 use crate::components::{BodyId, GravityRole, HalfExtents, Mass, Position, Velocity};
+use crate::ui::sets::SandboxSystems;
 
 /// The selected body, if any.
 #[derive(Resource, Clone, Copy, Debug, Default)]

@@ -8,16 +8,16 @@ use std::time::{Duration, Instant};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 
-use super::body_colors::is_celestial;
-use super::clock::UpdateClock;
 use super::frame_stats::{FrameStats, summarize};
 use super::gpu_memory::GpuMemory;
-use super::instance_slot::InstancedBodies;
-use super::settings::SandboxSettings;
 use crate::bench::{FrameReport, peak_memory};
 use crate::components::{BodyId, GravityRole, Interacts};
 use crate::draw_method::DrawMethod;
 use crate::output::{write_atomically, write_png};
+use crate::ui::draw::InstancedBodies;
+use crate::ui::draw::is_celestial;
+use crate::ui::session::SandboxSettings;
+use crate::ui::session::UpdateClock;
 
 /// Frames skipped before frame times count (pipelines compile, buffers fill).
 pub const WARMUP_FRAMES: usize = crate::bench::WINDOW_WARMUP_FRAMES as usize;

@@ -16,14 +16,14 @@ use bevy::prelude::*;
 use bevy::render::extract_component::ExtractComponentPlugin;
 
 use super::body_colors::{LookTracker, body_color, is_celestial};
-use super::clock::UpdateClock;
 use super::instance_slot::{InstanceData, InstancedBodies};
 use super::instanced_draw::InstancedDrawPlugin;
-use super::scene::SandboxState;
-use super::settings::SandboxSettings;
 use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::systems::OverlappingPairs;
+use crate::ui::session::SandboxSettings;
+use crate::ui::session::SandboxState;
+use crate::ui::session::UpdateClock;
 
 /// Draws the bodies as instanced cubes when that method is chosen.
 pub struct InstancingPlugin;

@@ -7,20 +7,20 @@ use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
 use super::cascade::{Cascade, totals_readout};
-use super::scene::SandboxState;
-use super::selection::{Selection, selected_info};
-use super::sets::SandboxSystems;
-use super::settings::{
-    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE, SPEED_RANGE,
-    SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,
-};
-use super::snapshot_save::SnapshotSave;
 use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy};
 use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, GravityMethod};
 use crate::rng::Rng;
+use crate::ui::session::SandboxState;
+use crate::ui::session::SnapshotSave;
+use crate::ui::session::{
+    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE, SPEED_RANGE,
+    SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,
+};
+use crate::ui::sets::SandboxSystems;
+use crate::ui::view::{Selection, selected_info};
 
 /// Folder the scenario picker lists.
 pub const SCENARIO_DIR: &str = "scenarios";

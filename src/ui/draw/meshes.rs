@@ -10,11 +10,11 @@ use bevy::prelude::*;
 use bevy::transform::TransformSystems;
 
 use super::body_colors::{LookTracker, PLAIN, body_color, is_celestial};
-use super::scene::SandboxState;
-use super::settings::SandboxSettings;
 use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::systems::OverlappingPairs;
+use crate::ui::session::SandboxSettings;
+use crate::ui::session::SandboxState;
 
 /// The shared mesh and materials of per-entity bodies.
 #[derive(Resource, Clone)]

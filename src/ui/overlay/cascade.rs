@@ -6,11 +6,11 @@
 use bevy::prelude::*;
 use bevy_egui::egui;
 
-use super::clock::UpdateClock;
-use super::scene::SandboxState;
-use super::sets::SandboxSystems;
 use crate::components::{Mass, Velocity};
 use crate::systems::{CollisionStats, Totals};
+use crate::ui::session::SandboxState;
+use crate::ui::session::UpdateClock;
+use crate::ui::sets::SandboxSystems;
 
 /// Updates per point of the curve at the start of a run.
 pub const CURVE_BUCKET: u64 = 100;
