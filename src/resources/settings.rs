@@ -271,24 +271,6 @@ pub fn setting(key: &str) -> Option<&'static SettingInfo> {
     SETTINGS.iter().find(|s| s.key == key)
 }
 
-/// The settings as the Markdown table in docs/design.md ("Physics
-/// settings"), which a test holds to this list.
-pub fn settings_table() -> String {
-    let mut table =
-        String::from("| setting | default | rule | the window applies it | meaning |\n|---|---|---|---|---|\n");
-    for s in SETTINGS {
-        let default = SimulationSettings::DEFAULT.shown(s.key).unwrap_or_default();
-        table += &format!(
-            "| `{}` | `{default}` | {} | {} | {} |\n",
-            s.key,
-            s.rule,
-            s.applies.name(),
-            s.doc.trim()
-        );
-    }
-    table
-}
-
 /// An error for a key that names no setting, listing the names.
 pub fn unknown_setting<E: Error>(key: &str, others: &[&str]) -> E {
     let names: Vec<String> = others
@@ -303,6 +285,24 @@ pub fn unknown_setting<E: Error>(key: &str, others: &[&str]) -> E {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The settings as the Markdown table in docs/design.md ("Physics
+    /// settings"), which a test holds to this list.
+    pub fn settings_table() -> String {
+        let mut table =
+            String::from("| setting | default | rule | the window applies it | meaning |\n|---|---|---|---|---|\n");
+        for s in SETTINGS {
+            let default = SimulationSettings::DEFAULT.shown(s.key).unwrap_or_default();
+            table += &format!(
+                "| `{}` | `{default}` | {} | {} | {} |\n",
+                s.key,
+                s.rule,
+                s.applies.name(),
+                s.doc.trim()
+            );
+        }
+        table
+    }
 
     #[test]
     fn every_default_keeps_its_own_rule() {

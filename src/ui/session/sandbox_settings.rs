@@ -8,29 +8,49 @@ use serde::{Deserialize, Serialize};
 
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, available_threads};
-use crate::resources::{DEFAULT_THETA, GravityMethod, MAX_THETA, SimulationSettings};
+use crate::resources::{GravityMethod, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check};
 
 /// Slowest and fastest target update rate, updates per second.
 pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
 /// Slowest and fastest simulation speed (a factor on the update rate).
 pub const SPEED_RANGE: std::ops::RangeInclusive<f32> = 0.05..=8.0;
-/// Smallest and largest fragment spread (a share of the impact speed).
+/// Smallest and largest fragment spread the panel's slider offers (a
+/// share of the impact speed).
 pub const FRAGMENT_SPREAD_RANGE: std::ops::RangeInclusive<f32> = 0.0..=10.0;
 /// Most bodies the panel offers: as many as `--bodies` accepts.
 pub const MAX_BODY_COUNT: u64 = crate::input::MAX_RUN_BODIES;
-/// Smallest and largest size floor the panel offers, edge lengths.
+/// Smallest and largest size floor the panel's slider offers, edge lengths
+/// (a settings file may hold more: the settings list's rule is the bound).
 pub const MIN_FRAGMENT_SIZE_RANGE: std::ops::RangeInclusive<f32> = 0.0..=100.0;
 /// Smallest and largest body budget.
-pub const MAX_BODIES_RANGE: std::ops::RangeInclusive<u64> = 1..=crate::scenario::MAX_BODIES;
+pub const MAX_BODIES_RANGE: std::ops::RangeInclusive<u64> = 1..=MAX_BODIES;
 /// Fewest and most fragments a shatter makes (the scenario format's bounds;
 /// the panel's slider offers the low end).
-pub const SHATTER_FRAGMENTS_RANGE: std::ops::RangeInclusive<u32> = 2..=crate::scenario::MAX_FRAGMENTS;
+pub const SHATTER_FRAGMENTS_RANGE: std::ops::RangeInclusive<u32> = 2..=MAX_FRAGMENTS;
 /// Fewest and most fragments drawn with a trail.
 pub const TRAIL_COUNT_RANGE: std::ops::RangeInclusive<u32> = 1..=200;
 
 /// `a to b`, as a warning names an allowed range.
 fn range_text<T: std::fmt::Debug>(range: &std::ops::RangeInclusive<T>) -> String {
     format!("{:?} to {:?}", range.start(), range.end())
+}
+
+/// The physics settings the panel holds, each a field of the same name in
+/// [`SandboxSettings`] and [`SimulationSettings`] (the settings list gives
+/// its rule and whether it applies live), with what replaces a value a
+/// settings file holds against the rule: `$then!` is called with them.
+macro_rules! panel_physics {
+    ($then:ident) => {
+        $then! {
+            gravity_method => |_| SimulationSettings::DEFAULT.gravity_method,
+            seed => |_| SimulationSettings::DEFAULT.seed,
+            shatter_fragments => |n| clamped(n, &SHATTER_FRAGMENTS_RANGE).unwrap_or(SimulationSettings::DEFAULT.shatter_fragments),
+            shatter_threshold => |_| SimulationSettings::DEFAULT.shatter_threshold,
+            fragment_spread => |_| SimulationSettings::DEFAULT.fragment_spread,
+            min_fragment_size => |_| SimulationSettings::DEFAULT.min_fragment_size,
+            max_bodies => |n| clamped(n, &MAX_BODIES_RANGE).unwrap_or(SimulationSettings::DEFAULT.max_bodies),
+        }
+    };
 }
 
 /// Which bodies besides the selected one draw their recent path.
@@ -261,7 +281,6 @@ impl SandboxSettings {
     /// one beyond the widget's own range (a slider offers a convenient part
     /// of what is allowed).
     pub fn sanitize(&mut self) -> Vec<OutOfRange> {
-        let physics = SimulationSettings::default();
         let mut fixes = Fixes(Vec::new());
         let threads = 1..=max_threads();
         fixes.check(
@@ -293,54 +312,27 @@ impl SandboxSettings {
                     .then_some(Some(MAX_BODY_COUNT))
             },
         );
-        fixes.check(
-            "shatter_fragments",
-            &mut self.shatter_fragments,
-            &format!("{}: a shatter needs at least 2", range_text(&SHATTER_FRAGMENTS_RANGE)),
-            |&n| clamped(n, &SHATTER_FRAGMENTS_RANGE),
-        );
-        fixes.check(
-            "shatter_threshold",
-            &mut self.shatter_threshold,
-            "finite and >= 0",
-            |&t| (!(t.is_finite() && t >= 0.0)).then_some(physics.shatter_threshold),
-        );
-        fixes.check(
-            "gravity_method",
-            &mut self.gravity_method,
-            &format!("Auto, Direct, or Tree with theta from 0 to {MAX_THETA:?}"),
-            |method| {
-                method
-                    .check()
-                    .is_err()
-                    .then_some(GravityMethod::Tree { theta: DEFAULT_THETA })
-            },
-        );
+        self.fix_physics(&mut fixes);
         fixes.check(
             "trail_count",
             &mut self.trail_count,
             &range_text(&TRAIL_COUNT_RANGE),
             |&n| clamped(n, &TRAIL_COUNT_RANGE),
         );
-        fixes.check(
-            "min_fragment_size",
-            &mut self.min_fragment_size,
-            &range_text(&MIN_FRAGMENT_SIZE_RANGE),
-            |size| (!MIN_FRAGMENT_SIZE_RANGE.contains(size)).then_some(physics.min_fragment_size),
-        );
-        fixes.check(
-            "max_bodies",
-            &mut self.max_bodies,
-            &range_text(&MAX_BODIES_RANGE),
-            |&n| clamped(n, &MAX_BODIES_RANGE),
-        );
-        fixes.check(
-            "fragment_spread",
-            &mut self.fragment_spread,
-            &range_text(&FRAGMENT_SPREAD_RANGE),
-            |spread| (!FRAGMENT_SPREAD_RANGE.contains(spread)).then_some(physics.fragment_spread),
-        );
         fixes.0
+    }
+
+    /// The panel's physics settings held to the settings list's rules.
+    fn fix_physics(&mut self, fixes: &mut Fixes) {
+        macro_rules! fix {
+            ($($field:ident => $fix:expr,)*) => {$(
+                let rule = SETTINGS.iter().find(|s| s.field == stringify!($field)).map_or("", |s| s.rule);
+                fixes.check(stringify!($field), &mut self.$field, rule, |&v| {
+                    check::$field(v).is_err().then(|| $fix(v))
+                });
+            )*};
+        }
+        panel_physics!(fix);
     }
 
     /// Takes into `self` every field in which `now` differs from `start`,
@@ -393,29 +385,43 @@ impl SandboxSettings {
         taken
     }
 
-    /// Copies the live physics switches into the simulation's settings.
-    pub fn apply_physics(&self, physics: &mut SimulationSettings) {
-        physics.gravity = self.gravity;
-        physics.collisions = self.collisions;
-        physics.collision_response = self.collision_response;
-        physics.shatter_fragments = self.shatter_fragments.max(2);
-        physics.shatter_threshold = self.shatter_threshold;
-        physics.fragment_spread = self.fragment_spread;
-        physics.min_fragment_size = self.min_fragment_size;
-        physics.max_bodies = self.max_bodies;
-        physics.gravity_method = self.gravity_method;
+    /// The panel's values in `base`: its physics settings and stage
+    /// switches.
+    fn physics_over(&self, base: &SimulationSettings) -> SimulationSettings {
+        let mut panel = base.clone();
+        macro_rules! take {
+            ($($field:ident => $fix:expr,)*) => {$(panel.$field = self.$field;)*};
+        }
+        panel_physics!(take);
+        panel.gravity = self.gravity;
+        panel.collisions = self.collisions;
+        panel.collision_response = self.collision_response;
+        panel
     }
 
-    /// Takes a freshly loaded scenario's own values (seed, fragments,
-    /// threshold, spread) into the settings.
+    /// Copies the live physics settings and the stage switches into the
+    /// simulation's settings.
+    pub fn apply_physics(&self, physics: &mut SimulationSettings) {
+        let panel = self.physics_over(physics);
+        physics.take_live(&panel);
+        physics.gravity = panel.gravity;
+        physics.collisions = panel.collisions;
+        physics.collision_response = panel.collision_response;
+    }
+
+    /// The physics a scene is rebuilt with: the scenario's, with every
+    /// setting the panel holds (live or on restart) and its stage switches.
+    pub fn physics_for_restart(&self, scenario: &SimulationSettings) -> SimulationSettings {
+        self.physics_over(scenario)
+    }
+
+    /// Takes a freshly loaded scenario's own values of the physics
+    /// settings the panel holds.
     pub fn adopt_scenario(&mut self, physics: &SimulationSettings) {
-        self.seed = physics.seed;
-        self.shatter_fragments = physics.shatter_fragments;
-        self.shatter_threshold = physics.shatter_threshold;
-        self.fragment_spread = physics.fragment_spread;
-        self.min_fragment_size = physics.min_fragment_size;
-        self.max_bodies = physics.max_bodies;
-        self.gravity_method = physics.gravity_method;
+        macro_rules! adopt {
+            ($($field:ident => $fix:expr,)*) => {$(self.$field = physics.$field;)*};
+        }
+        panel_physics!(adopt);
     }
 }
 

@@ -99,14 +99,12 @@ pub fn build_bodies(
     settings: &SandboxSettings,
 ) -> Result<(Vec<BodyState>, SimulationSettings), SceneError> {
     let mut scenario = scenario.clone();
-    scenario.physics.seed = settings.seed;
+    scenario.physics = settings.physics_for_restart(&scenario.physics);
     if let Some(count) = settings.body_count {
         scenario = scenario.with_generated(count)?;
     }
     let bodies = scenario.bodies()?;
-    let mut physics = scenario.settings();
-    settings.apply_physics(&mut physics);
-    Ok((bodies, physics))
+    Ok((bodies, scenario.settings()))
 }
 
 /// Reads a newly picked scenario into the state and takes its own seed and
