@@ -5,14 +5,11 @@
 //! new velocity moving it, and the position before the move is kept for the
 //! collision response.
 
-use std::time::Instant;
-
 use bevy::prelude::*;
 
 use crate::components::{BodyId, Position, PreviousPosition, Velocity};
-use crate::execution::Execution;
 use crate::resources::SimulationSettings;
-use crate::systems::{SimulationFault, SimulationSystems, SimulationUpdate, StageTimings, first_non_finite};
+use crate::systems::{SimulationFault, SimulationSystems, SimulationUpdate, Stage, first_non_finite};
 
 /// The columns the integration kernel reads and writes.
 pub type IntegrateColumns<'a> = (&'a [Velocity], &'a mut [Position], &'a mut [PreviousPosition]);
@@ -43,14 +40,13 @@ pub fn integrate_kernel((velocities, positions, previous): IntegrateColumns<'_>,
 
 fn integrate(
     settings: Res<SimulationSettings>,
-    execution: Res<Execution>,
-    mut timings: ResMut<StageTimings>,
+    mut stage: Stage,
     mut bodies: Query<(&BodyId, &Velocity, &mut Position, &mut PreviousPosition)>,
     mut fault: ResMut<SimulationFault>,
 ) {
-    let start = Instant::now();
+    let clock = stage.start(SimulationSystems::Integrate);
     let dt = settings.time_step;
-    let stage = execution.for_stage(SimulationSystems::Integrate.name(), bodies.iter().len());
+    let execution = clock.execution(bodies.iter().len());
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
     let mut finite = true;
     for (_, velocities, mut positions, mut previous) in tables {
@@ -59,7 +55,7 @@ fn integrate(
             positions.bypass_change_detection(),
             previous.bypass_change_detection(),
         );
-        finite &= stage
+        finite &= execution
             .map_chunks(columns, |columns| integrate_kernel(columns, dt))
             .into_iter()
             .all(|chunk| chunk);
@@ -69,7 +65,7 @@ fn integrate(
         let found = first_non_finite(bodies.iter().map(|(id, v, p, _)| (id, p, v)));
         fault.stop(found.expect("a non-finite value was seen"));
     }
-    timings.record(SimulationSystems::Integrate, start.elapsed());
+    clock.finish();
 }
 
 #[cfg(test)]

@@ -1,8 +1,12 @@
 //! The simulation stages, one plugin per stage; the stage list and the
-//! schedule that orders them.
+//! schedule that orders them. Every stage is a module named after it
+//! (`gravity`, `integrate`, `sort`, `sweep`, `response`, `shatter`) that
+//! holds its plugin and its system — in `<stage>/stage.rs` where the stage
+//! is a folder with its kernels beside it, else in `<stage>.rs`; the sort
+//! and sweep kernels are the broad phase's (`broad_phase/`). Each stage
+//! system takes a [`Stage`] and names itself once, in [`Stage::start`].
 
 mod broad_phase;
-mod contact;
 mod fault;
 mod gravity;
 #[cfg(target_arch = "x86_64")]
@@ -18,21 +22,32 @@ mod plugins;
 mod response;
 mod schedule;
 mod shatter;
+mod sort;
+mod stage_clock;
 mod stages;
+mod sweep;
 mod timings;
 mod totals;
 
-pub use broad_phase::*;
-pub use contact::*;
-pub use fault::*;
+pub use broad_phase::{
+    Aabb, BodyColumns, BoxSource, BroadPhaseQuery, MIN_PAIR_LIMIT, PAIRS_PER_BOX, SortedBoxes, TableColumns,
+    TooManyPairs, id_pairs, pair_limit, sort_boxes, sweep_and_prune, sweep_sorted,
+};
+pub use fault::{Fault, SimulationFault, first_non_finite, no_fault};
 pub use gravity::*;
 pub use gravity_columns::Kernel;
 pub use gravity_tree::*;
-pub use integrate::*;
-pub use plugins::*;
-pub use response::*;
-pub use schedule::*;
-pub use shatter::*;
-pub use stages::*;
-pub use timings::*;
-pub use totals::*;
+pub use integrate::{IntegrateColumns, IntegratePlugin, integrate_kernel};
+pub use plugins::SimulationPlugins;
+pub use response::{
+    CollisionStats, ContactBody, Matched, Motion, Outcome, ResponsePlugin, apart_axes, collision_axes, elastic,
+    refuse_shatters, respond, respond_to_ball,
+};
+pub use schedule::{SchedulePlugin, SimulationUpdate, run_updates};
+pub use shatter::{PendingShatters, ShatterPair, ShatterPlugin, fragment_half_extent, fragments};
+pub use sort::SortPlugin;
+pub use stage_clock::{Stage, StageClock};
+pub use stages::{STAGE_COUNT, STAGES, SimulationSystems, StageInfo};
+pub use sweep::{OverlappingPairs, Pair, SweepPlugin};
+pub use timings::{StageTimings, Timing};
+pub use totals::Totals;

@@ -10,15 +10,26 @@
 //! fragments get fresh ids in pair order, so the result does not depend on
 //! how the stage is executed.
 
-use std::time::Instant;
-
 use bevy::math::{DQuat, DVec3};
 use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, GravityRole};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::rng::Rng;
-use crate::systems::{PendingShatters, SimulationSystems, SimulationUpdate, StageTimings};
+use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
+
+/// Two bodies to shatter, in pair order, for the shatter stage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShatterPair {
+    /// The two bodies' entities, to despawn.
+    pub entities: [Entity; 2],
+    /// Their state at the impact.
+    pub bodies: [BodyState; 2],
+}
+
+/// Pairs the response marked for shattering this update, in pair order.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct PendingShatters(pub Vec<ShatterPair>);
 
 /// Clearance between neighboring fragments, as a share of their edge.
 const CLEARANCE: f64 = 0.05;
@@ -28,7 +39,8 @@ pub struct ShatterPlugin;
 
 impl Plugin for ShatterPlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(SimulationUpdate, shatter.in_set(SimulationSystems::Shatter));
+        app.init_resource::<PendingShatters>()
+            .add_systems(SimulationUpdate, shatter.in_set(SimulationSystems::Shatter));
     }
 }
 
@@ -122,12 +134,12 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u6
 
 fn shatter(
     settings: Res<SimulationSettings>,
-    mut timings: ResMut<StageTimings>,
+    mut stage: Stage,
     mut pending: ResMut<PendingShatters>,
     mut next_id: ResMut<NextBodyId>,
     mut commands: Commands,
 ) {
-    let start = Instant::now();
+    let clock = stage.start(SimulationSystems::Shatter);
     let count = settings.shatter_fragments;
     for pair in pending.0.drain(..) {
         for entity in pair.entities {
@@ -142,7 +154,7 @@ fn shatter(
                 .map(|f| f.bundle()),
         );
     }
-    timings.record(SimulationSystems::Shatter, start.elapsed());
+    clock.finish();
 }
 
 #[cfg(test)]

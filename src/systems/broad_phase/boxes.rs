@@ -39,6 +39,9 @@ impl BoxSource for [Aabb] {
 /// One table's columns the broad phase reads.
 pub type TableColumns<'a> = (&'a [Entity], &'a [BodyId], &'a [Position], &'a [HalfExtents]);
 
+/// The columns the broad phase reads: entity, id, position, half extents.
+pub type BroadPhaseQuery<'w, 's> = Query<'w, 's, (Entity, &'static BodyId, &'static Position, &'static HalfExtents)>;
+
 /// The bodies' table columns read as one sequence, table after table.
 pub struct BodyColumns<'a> {
     /// Index of each table's first body.

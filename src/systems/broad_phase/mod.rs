@@ -31,13 +31,9 @@ mod filing;
 mod grid;
 mod ordering;
 mod sort;
-mod sort_stage;
 mod sweep;
-mod sweep_stage;
 
-pub use aabb::*;
-pub use boxes::*;
-pub use sort::*;
-pub use sort_stage::*;
-pub use sweep::*;
-pub use sweep_stage::*;
+pub use aabb::Aabb;
+pub use boxes::{BodyColumns, BoxSource, BroadPhaseQuery, TableColumns};
+pub use sort::{SortedBoxes, sort_boxes};
+pub use sweep::{MIN_PAIR_LIMIT, PAIRS_PER_BOX, TooManyPairs, id_pairs, pair_limit, sweep_and_prune, sweep_sorted};

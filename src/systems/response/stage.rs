@@ -8,32 +8,17 @@
 //! The matched pairs are disjoint, so their responses are computed in
 //! parallel with the same result.
 
-use std::time::Instant;
-
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
 use super::contact::{Outcome, respond};
-use super::shatter::fragment_half_extent;
 use crate::components::{
     BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
 };
-use crate::execution::Execution;
 use crate::resources::SimulationSettings;
-use crate::systems::{OverlappingPairs, Pair, SimulationSystems, SimulationUpdate, StageTimings};
-
-/// Two bodies to shatter, in pair order, for the shatter stage.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShatterPair {
-    /// The two bodies' entities, to despawn.
-    pub entities: [Entity; 2],
-    /// Their state at the impact.
-    pub bodies: [BodyState; 2],
-}
-
-/// Pairs the response marked for shattering this update, in pair order.
-#[derive(Resource, Clone, Debug, Default)]
-pub struct PendingShatters(pub Vec<ShatterPair>);
+use crate::systems::shatter::{PendingShatters, ShatterPair, fragment_half_extent};
+use crate::systems::sweep::{OverlappingPairs, Pair};
+use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
 
 /// Counts of what collisions did, for summaries and the HUD.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -88,8 +73,7 @@ pub struct ResponsePlugin;
 
 impl Plugin for ResponsePlugin {
     fn build(&self, app: &mut App) {
-        app.init_resource::<PendingShatters>()
-            .init_resource::<CollisionStats>()
+        app.init_resource::<CollisionStats>()
             .add_systems(SimulationUpdate, respond_to_pairs.in_set(SimulationSystems::Response));
     }
 }
@@ -183,15 +167,14 @@ fn apply_outcomes(
 )]
 fn respond_to_pairs(
     settings: Res<SimulationSettings>,
-    execution: Res<Execution>,
-    mut timings: ResMut<StageTimings>,
+    mut stage: Stage,
     pairs: Res<OverlappingPairs>,
     mut pending: ResMut<PendingShatters>,
     mut stats: ResMut<CollisionStats>,
     mut busy: Local<HashSet<Entity>>,
     mut bodies: ContactQuery,
 ) {
-    let start = Instant::now();
+    let clock = stage.start(SimulationSystems::Response);
     pending.0.clear();
     if !(settings.collisions && settings.collision_response) {
         *stats = CollisionStats {
@@ -210,8 +193,8 @@ fn respond_to_pairs(
     };
     let dt = settings.time_step;
     let body_count = bodies.iter().len();
-    let stage = execution.for_stage(SimulationSystems::Response.name(), body_count);
-    let mut outcomes: Vec<Outcome> = stage
+    let mut outcomes: Vec<Outcome> = clock
+        .execution(body_count)
         .map_chunks(matched.as_slice(), |chunk: &[Matched]| {
             chunk
                 .iter()
@@ -229,5 +212,5 @@ fn respond_to_pairs(
         refused_shatters: refused,
         refused_total: stats.refused_total + refused as u64,
     };
-    timings.record(SimulationSystems::Response, start.elapsed());
+    clock.finish();
 }

@@ -1,15 +1,12 @@
 //! [`SweepPlugin`]: the broad phase's second stage, sweeping the
 //! [`SortedBoxes`] and writing [`OverlappingPairs`].
 
-use std::time::Instant;
-
 use bevy::prelude::*;
 
-use super::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sweep_sorted};
+use super::broad_phase::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sweep_sorted};
 use crate::components::BodyId;
-use crate::execution::Execution;
 use crate::resources::SimulationSettings;
-use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, StageTimings};
+use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
 
 /// Two overlapping bodies: ids `a < b` and their entities.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,8 +38,7 @@ impl Plugin for SweepPlugin {
 
 fn sweep(
     settings: Res<SimulationSettings>,
-    execution: Res<Execution>,
-    mut timings: ResMut<StageTimings>,
+    mut stage: Stage,
     mut pairs: ResMut<OverlappingPairs>,
     sorted: Res<SortedBoxes>,
     bodies: BroadPhaseQuery,
@@ -52,13 +48,12 @@ fn sweep(
     if !settings.collisions {
         return;
     }
-    let start = Instant::now();
+    let clock = stage.start(SimulationSystems::Sweep);
     let columns = BodyColumns::new(bodies.contiguous_iter().expect("body components are table-stored"));
     // The sort stage ran on these bodies just before (nothing spawns or
     // despawns between the two stages).
     debug_assert_eq!(sorted.len(), columns.len(), "the sort saw other bodies");
-    let stage = execution.for_stage(SimulationSystems::Sweep.name(), columns.len());
-    let index_pairs = match sweep_sorted(&sorted, stage) {
+    let index_pairs = match sweep_sorted(&sorted, clock.execution(columns.len())) {
         Ok(pairs) => pairs,
         Err(e) => {
             fault.stop(Fault::PileUp(e));
@@ -80,5 +75,5 @@ fn sweep(
         }
     }));
     pairs.0.sort_unstable_by_key(|p| (p.a, p.b));
-    timings.record(SimulationSystems::Sweep, start.elapsed());
+    clock.finish();
 }

@@ -1,0 +1,30 @@
+//! [`SortPlugin`]: the broad phase's first stage, reading the bodies' table
+//! columns in place and writing [`SortedBoxes`].
+
+use bevy::prelude::*;
+
+use super::broad_phase::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sort_boxes};
+use crate::resources::SimulationSettings;
+use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
+
+/// Files the bodies' boxes by grid cell and orders them on x in
+/// [`SimulationSystems::Sort`].
+pub struct SortPlugin;
+
+impl Plugin for SortPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<SortedBoxes>()
+            .add_systems(SimulationUpdate, sort.in_set(SimulationSystems::Sort));
+    }
+}
+
+fn sort(settings: Res<SimulationSettings>, mut stage: Stage, mut sorted: ResMut<SortedBoxes>, bodies: BroadPhaseQuery) {
+    if !settings.collisions {
+        sorted.clear();
+        return;
+    }
+    let clock = stage.start(SimulationSystems::Sort);
+    let columns = BodyColumns::new(bodies.contiguous_iter().expect("body components are table-stored"));
+    sort_boxes(&columns, clock.execution(columns.len()), &mut sorted);
+    clock.finish();
+}
