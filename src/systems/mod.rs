@@ -5,14 +5,6 @@ mod broad_phase;
 mod contact;
 mod fault;
 mod gravity;
-#[cfg(target_arch = "x86_64")]
-mod gravity_avx;
-#[cfg(target_arch = "x86_64")]
-mod gravity_avx512;
-mod gravity_columns;
-mod gravity_local;
-mod gravity_tree;
-mod gravity_walk;
 mod integrate;
 mod plugins;
 mod response;
@@ -25,9 +17,11 @@ mod totals;
 pub use broad_phase::*;
 pub use contact::*;
 pub use fault::*;
-pub use gravity::*;
-pub use gravity_columns::Kernel;
-pub use gravity_tree::*;
+pub use gravity::{
+    GROUP_SIZE, GravityColumns, GravityInUse, GravityPlugin, GravitySource, Kernel, LEAF_SIZE, Octree, Pull,
+    PullScratch, REGION_SIZE, SourceColumns, acceleration_at, add_pulls, collect_sources, gravity_kernel, prepare_pull,
+    pull_factor,
+};
 pub use integrate::*;
 pub use plugins::*;
 pub use response::*;
