@@ -9,14 +9,6 @@
 mod broad_phase;
 mod fault;
 mod gravity;
-#[cfg(target_arch = "x86_64")]
-mod gravity_avx;
-#[cfg(target_arch = "x86_64")]
-mod gravity_avx512;
-mod gravity_columns;
-mod gravity_local;
-mod gravity_tree;
-mod gravity_walk;
 mod integrate;
 mod plugins;
 mod response;
@@ -34,9 +26,11 @@ pub use broad_phase::{
     TooManyPairs, id_pairs, pair_limit, sort_boxes, sweep_and_prune, sweep_sorted,
 };
 pub use fault::{Fault, SimulationFault, first_non_finite, no_fault};
-pub use gravity::*;
-pub use gravity_columns::Kernel;
-pub use gravity_tree::*;
+pub use gravity::{
+    GROUP_SIZE, GravityColumns, GravityInUse, GravityPlugin, GravitySource, Kernel, LEAF_SIZE, Octree, Pull,
+    PullScratch, REGION_SIZE, SourceColumns, acceleration_at, add_pulls, collect_sources, gravity_kernel, prepare_pull,
+    pull_factor,
+};
 pub use integrate::{IntegrateColumns, IntegratePlugin, integrate_kernel};
 pub use plugins::SimulationPlugins;
 pub use response::{

@@ -48,6 +48,12 @@ impl<'a> StageClock<'a> {
         self.execution.for_stage(self.stage.name(), bodies)
     }
 
+    /// The execution itself, for a stage that weighs its work in another
+    /// unit than bodies before it asks how to split it (gravity: pulls).
+    pub fn executor(&self) -> &'a Execution {
+        self.execution
+    }
+
     /// Records the time since [`Stage::start`] as this update's sample of
     /// the stage.
     pub fn finish(self) {

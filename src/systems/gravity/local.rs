@@ -18,7 +18,7 @@
 
 use bevy::math::DVec3;
 
-use super::gravity_columns::{LANES, lane_total};
+use super::columns::{LANES, lane_total};
 
 /// The symmetric `K`'s components, in this order.
 const K: usize = 10;

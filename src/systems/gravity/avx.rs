@@ -1,7 +1,7 @@
-//! The group walk's kernel (`gravity_columns`) with AVX: each of the
+//! The group walk's kernel (`kernel.rs`) with AVX: each of the
 //! `LANES` lanes in one `f32` slot of a 256-bit register, every operation
 //! the one the plain kernel does in that lane, in the same order (no fused
-//! multiply-add), so both give the same bits; a test in `gravity_columns`
+//! multiply-add), so both give the same bits; a test in `kernel.rs`
 //! holds them to it. Two bodies go down the lists together: they share
 //! the loads and give the processor independent work between divisions.
 
@@ -9,8 +9,8 @@ use std::arch::x86_64::*;
 
 use bevy::math::DVec3;
 
-use super::gravity::GravitySource;
-use super::gravity_columns::{BLOCK, GroupLists, LANES, lanes_total};
+use super::columns::{BLOCK, GroupLists, LANES, lanes_total};
+use super::source::GravitySource;
 
 const _: () = assert!(LANES == 8, "one lane an f32 slot of a 256-bit register");
 
@@ -55,7 +55,7 @@ fn dot(a: [__m256; 3], x: [__m256; 3]) -> __m256 {
     )
 }
 
-/// `gravity_columns::near_term` in each slot.
+/// `kernel::near_term` in each slot.
 #[inline]
 #[target_feature(enable = "avx")]
 fn near_term(gm: __m256, d: [__m256; 3], softening2: __m256) -> [__m256; 3] {
@@ -67,7 +67,7 @@ fn near_term(gm: __m256, d: [__m256; 3], softening2: __m256) -> [__m256; 3] {
     [_mm256_mul_ps(d[0], f), _mm256_mul_ps(d[1], f), _mm256_mul_ps(d[2], f)]
 }
 
-/// `gravity_columns::far_term` in each slot.
+/// `kernel::far_term` in each slot.
 #[inline]
 #[target_feature(enable = "avx")]
 fn far_term(gm: __m256, q: [__m256; 6], r: [__m256; 3], softening2: __m256) -> [__m256; 3] {
@@ -161,7 +161,7 @@ fn block_sums<const B: usize, const N: usize>(
     sums
 }
 
-/// `gravity_columns::pull_on` for each of `B` bodies at `p`.
+/// `kernel::pull_on` for each of `B` bodies at `p`.
 #[inline]
 #[target_feature(enable = "avx")]
 fn pulls<const B: usize>(lists: &GroupLists, at: [DVec3; B], softening2: f32) -> [DVec3; B] {
@@ -187,7 +187,7 @@ fn pulls<const B: usize>(lists: &GroupLists, at: [DVec3; B], softening2: f32) ->
     std::array::from_fn(|b| near_sums[b].total() + far_sums[b].total())
 }
 
-/// `gravity_columns::group_pulls` with AVX.
+/// `kernel::group_pulls` with AVX.
 #[target_feature(enable = "avx")]
 pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<DVec3>) {
     let softening2 = softening2 as f32;

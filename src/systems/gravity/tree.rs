@@ -17,8 +17,9 @@
 use bevy::math::DVec3;
 use bevy::prelude::*;
 
-use super::gravity::{GravitySource, add_pulls};
-use super::gravity_columns::{LeafSources, far_term};
+use super::columns::LeafSources;
+use super::kernel::far_term;
+use super::source::{GravitySource, add_pulls};
 use crate::components::BodyId;
 use crate::execution::StageExecution;
 
@@ -114,11 +115,11 @@ impl Node {
 }
 
 /// Most sources in a group: the bodies that go down one list of
-/// interactions together (`gravity_walk`).
+/// interactions together (`walk.rs`).
 pub const GROUP_SIZE: u32 = 64;
 
 /// Most sources in a region: the groups whose walks share one walk of the
-/// tree for the region as a whole (`gravity_walk`).
+/// tree for the region as a whole (`walk.rs`).
 pub const REGION_SIZE: u32 = 256;
 
 /// What a walk ([`Octree::walk`]) comes to.
@@ -693,12 +694,12 @@ impl Octree {
         &self.groups[start..end]
     }
 
-    /// Number of regions (see `gravity_walk`).
+    /// Number of regions (see `walk.rs`).
     pub fn region_count(&self) -> usize {
         self.regions.len()
     }
 
-    /// Number of groups (see `gravity_walk`).
+    /// Number of groups (see `walk.rs`).
     pub fn group_count(&self) -> usize {
         self.groups.len()
     }
@@ -714,13 +715,11 @@ impl Octree {
 pub(super) mod tests {
     use super::*;
     use crate::rng::Rng;
-    use crate::systems::acceleration_at;
+    use crate::systems::gravity::source::acceleration_at;
 
-    /// A Plummer-like cluster of `count` sources (dense core, sparse halo,
-    /// unequal masses), radius capped at 5 000.
     /// `count` sources of `G·m` = `gm` uniform in the cube of half edge
     /// `half` about the origin.
-    pub(in crate::systems) fn uniform(count: u64, half: f64, gm: f64, seed: u64) -> Vec<GravitySource> {
+    pub(in crate::systems::gravity) fn uniform(count: u64, half: f64, gm: f64, seed: u64) -> Vec<GravitySource> {
         let mut rng = Rng::new(seed);
         (0..count)
             .map(|i| GravitySource {
@@ -731,7 +730,9 @@ pub(super) mod tests {
             .collect()
     }
 
-    pub(in crate::systems) fn cluster(count: usize, seed: u64) -> Vec<GravitySource> {
+    /// A Plummer-like cluster of `count` sources (dense core, sparse halo,
+    /// unequal masses), radius capped at 5 000.
+    pub(in crate::systems::gravity) fn cluster(count: usize, seed: u64) -> Vec<GravitySource> {
         let mut rng = Rng::new(seed);
         (0..count)
             .map(|i| {

@@ -1,7 +1,7 @@
 //! The walks of the tree (docs/design.md, "Gravity"): every source's
 //! acceleration, region by region.
 //!
-//! First each region (at most [`REGION_SIZE`](super::REGION_SIZE)
+//! First each region (at most [`REGION_SIZE`](super::tree::REGION_SIZE)
 //! sources) walks the tree once, for its bounding box and its groups'
 //! boxes. A node the region's box takes whole, every group takes whole
 //! too; a node no group takes whole, every group opens; a leaf reached
@@ -10,7 +10,7 @@
 //! ([`RegionShare::sums`]), instead of being copied into every group's
 //! lists. Sources of the leaves the region opens that lie beyond
 //! [`local_reach`] of its center go to the region's local expansion
-//! (`gravity_local`), summed once for all its bodies instead of once per
+//! (`local.rs`), summed once for all its bodies instead of once per
 //! body; a node wholly beyond that reach that the region does not take
 //! whole, it opens for its groups. Then each group walks only the nodes
 //! left in between, which some of the region's groups take whole and
@@ -23,9 +23,10 @@ use std::ops::Range;
 
 use bevy::math::{DVec3, Vec3};
 
-use super::gravity_columns::{GroupLists, group_pulls};
-use super::gravity_local::{Local, LocalExpansion, LocalSources};
-use super::gravity_tree::{Octree, Step, bounds};
+use super::columns::GroupLists;
+use super::kernel::group_pulls;
+use super::local::{Local, LocalExpansion, LocalSources};
+use super::tree::{Octree, Step, bounds};
 
 /// Room a near list starts with (in a uniform cloud of 100 000 a region's
 /// lists hold about 1 200 sources and 270 nodes, a group's own about 1 000
@@ -78,164 +79,162 @@ fn push_run(runs: &mut Vec<Range<usize>>, range: Range<usize>) {
     }
 }
 
-impl Octree {
-    /// Kernel, first half: what the regions `regions` (a range of region
-    /// indices) share with their groups, and the pull of the region's
-    /// lists on each of its sources, with the opening angle `theta` and
-    /// softening `ε²` = `softening2`.
-    pub fn region_shares(&self, regions: Range<usize>, theta: f64, softening2: f64) -> Vec<RegionShare> {
-        let inverse_theta = theta.recip();
-        let mut found = RegionLists::default();
-        let mut lists = GroupLists::with_capacity(LIST_CAPACITY, LIST_CAPACITY / 4);
-        let mut boxes = Vec::new();
-        self.regions()[regions.clone()]
-            .iter()
-            .zip(regions)
-            .map(|(region, r)| {
-                let members = &self.sources()[region.sources.start as usize..region.sources.end as usize];
-                let (lo, hi) = bounds(members);
-                boxes.clear();
-                boxes.extend(
-                    self.groups_of(r)
-                        .iter()
-                        .map(|group| bounds(&self.sources()[group.start as usize..group.end as usize])),
-                );
-                let mut share = RegionShare::default();
-                self.region_walk(lo, hi, &boxes, inverse_theta, &mut share.open, &mut found);
-                let center = (lo + hi) * 0.5;
-                share.local = (!found.distant.is_empty()).then(|| Local {
-                    center,
-                    expansion: LocalExpansion::of(&found.distant, softening2),
-                });
-                self.fill(&mut lists, center, &found.near, &found.far);
-                share.sums.reserve_exact(members.len());
-                group_pulls(&lists, members, softening2, &mut share.sums);
-                share
-            })
-            .collect()
-    }
-
-    /// Kernel, second half: the acceleration of every source in the groups
-    /// `groups` (a range of group indices), in leaf order, given `shares`,
-    /// every region's share, with the opening angle `theta` and softening
-    /// `ε²` = `softening2`. Each source's sum depends on its region and
-    /// group alone, never on how regions and groups are split among
-    /// threads.
-    pub fn group_accelerations(
-        &self,
-        groups: Range<usize>,
-        shares: &[RegionShare],
-        theta: f64,
-        softening2: f64,
-    ) -> Vec<Vec3> {
-        let inverse_theta = theta.recip();
-        let sources = self.sources();
-        let (mut near, mut far, mut sums) = (Vec::new(), Vec::new(), Vec::new());
-        let mut lists = GroupLists::with_capacity(LIST_CAPACITY, LIST_CAPACITY / 4);
-        let mut out = Vec::with_capacity(self.groups()[groups.clone()].iter().map(|g| g.len()).sum());
-        for (group, &region) in self.groups()[groups.clone()].iter().zip(&self.group_regions()[groups]) {
-            let share = &shares[region as usize];
-            let members = &sources[group.start as usize..group.end as usize];
+/// Kernel, first half: what the regions `regions` of `tree` (a range of
+/// region indices) share with their groups, and the pull of the region's
+/// lists on each of its sources, with the opening angle `theta` and
+/// softening `ε²` = `softening2`.
+pub fn region_shares(tree: &Octree, regions: Range<usize>, theta: f64, softening2: f64) -> Vec<RegionShare> {
+    let inverse_theta = theta.recip();
+    let mut found = RegionLists::default();
+    let mut lists = GroupLists::with_capacity(LIST_CAPACITY, LIST_CAPACITY / 4);
+    let mut boxes = Vec::new();
+    tree.regions()[regions.clone()]
+        .iter()
+        .zip(regions)
+        .map(|(region, r)| {
+            let members = &tree.sources()[region.sources.start as usize..region.sources.end as usize];
             let (lo, hi) = bounds(members);
-            near.clear();
-            far.clear();
-            for &root in &share.open {
-                self.walk(root as usize, lo, hi, inverse_theta, |step| match step {
-                    Step::Leaf(node) => push_run(&mut near, node.range()),
-                    Step::Whole(i) => far.push(i),
-                });
-            }
-            self.fill(&mut lists, (lo + hi) * 0.5, &near, &far);
-            sums.clear();
-            group_pulls(&lists, members, softening2, &mut sums);
-            // This group's sources among its region's.
-            let first = (group.start - self.regions()[region as usize].sources.start) as usize;
-            let region_sums = &share.sums[first..first + members.len()];
-            out.extend(members.iter().zip(&sums).zip(region_sums).map(|((s, &own), &shared)| {
-                let sum = own + shared;
-                match &share.local {
-                    Some(local) => (sum + local.at(s.position)).as_vec3(),
-                    None => sum.as_vec3(),
-                }
-            }));
-        }
-        out
-    }
+            boxes.clear();
+            boxes.extend(
+                tree.groups_of(r)
+                    .iter()
+                    .map(|group| bounds(&tree.sources()[group.start as usize..group.end as usize])),
+            );
+            let mut share = RegionShare::default();
+            region_walk(tree, lo, hi, &boxes, inverse_theta, &mut share.open, &mut found);
+            let center = (lo + hi) * 0.5;
+            share.local = (!found.distant.is_empty()).then(|| Local {
+                center,
+                expansion: LocalExpansion::of(&found.distant, softening2),
+            });
+            fill(tree, &mut lists, center, &found.near, &found.far);
+            share.sums.reserve_exact(members.len());
+            group_pulls(&lists, members, softening2, &mut share.sums);
+            share
+        })
+        .collect()
+}
 
-    /// Fills `lists`, relative to `center`, with the sources of the runs
-    /// `near` (leaf order) and the nodes `far`, padded.
-    fn fill(&self, lists: &mut GroupLists, center: DVec3, near: &[Range<usize>], far: &[u32]) {
-        let (nodes, moments) = self.nodes();
-        lists.clear(center);
-        for run in near {
-            lists.push_near(self.columns(), run.clone());
-        }
-        lists.extend_far(far.iter().map(|&i| {
-            let (node, m) = (&nodes[i as usize], &moments[i as usize]);
-            (node.com, m.gm, m.quad)
-        }));
-        lists.pad();
-    }
-
-    /// The region walk for the box `lo..=hi` of the groups in `boxes`: the
-    /// subtrees the groups walk themselves into `open`, the rest into
-    /// `found` (see the module's documentation).
-    fn region_walk(
-        &self,
-        lo: DVec3,
-        hi: DVec3,
-        boxes: &[(DVec3, DVec3)],
-        inverse_theta: f64,
-        open: &mut Vec<u32>,
-        found: &mut RegionLists,
-    ) {
-        let RegionLists { near, far, distant } = found;
+/// Kernel, second half: the acceleration of every source in the groups
+/// `groups` of `tree` (a range of group indices), in leaf order, given
+/// `shares`, every region's share, with the opening angle `theta` and
+/// softening `ε²` = `softening2`. Each source's sum depends on its region
+/// and group alone, never on how regions and groups are split among
+/// threads.
+pub fn group_accelerations(
+    tree: &Octree,
+    groups: Range<usize>,
+    shares: &[RegionShare],
+    theta: f64,
+    softening2: f64,
+) -> Vec<Vec3> {
+    let inverse_theta = theta.recip();
+    let sources = tree.sources();
+    let (mut near, mut far, mut sums) = (Vec::new(), Vec::new(), Vec::new());
+    let mut lists = GroupLists::with_capacity(LIST_CAPACITY, LIST_CAPACITY / 4);
+    let mut out = Vec::with_capacity(tree.groups()[groups.clone()].iter().map(|g| g.len()).sum());
+    for (group, &region) in tree.groups()[groups.clone()].iter().zip(&tree.group_regions()[groups]) {
+        let share = &shares[region as usize];
+        let members = &sources[group.start as usize..group.end as usize];
+        let (lo, hi) = bounds(members);
         near.clear();
         far.clear();
-        open.clear();
-        distant.clear();
-        let (nodes, _) = self.nodes();
-        let sources = self.sources();
-        let center = (lo + hi) * 0.5;
-        let reach = local_reach(lo, hi, inverse_theta);
-        let beyond = |d: DVec3| d.length_squared() > reach * reach;
-        let mut i = 0;
-        while i < nodes.len() {
-            let node = &nodes[i];
-            if node.leaf {
-                let (middle, half) = node.cube();
-                if !beyond((center - middle).abs() + half) {
-                    push_run(near, node.range());
-                } else {
-                    // Its farthest corner is beyond: source by source.
-                    for (k, s) in sources[node.range()].iter().enumerate() {
-                        if beyond(s.position - center) {
-                            distant.push(s.position - center, s.gm);
-                        } else {
-                            let k = node.first as usize + k;
-                            push_run(near, k..k + 1);
-                        }
+        for &root in &share.open {
+            tree.walk(root as usize, lo, hi, inverse_theta, |step| match step {
+                Step::Leaf(node) => push_run(&mut near, node.range()),
+                Step::Whole(i) => far.push(i),
+            });
+        }
+        fill(tree, &mut lists, (lo + hi) * 0.5, &near, &far);
+        sums.clear();
+        group_pulls(&lists, members, softening2, &mut sums);
+        // This group's sources among its region's.
+        let first = (group.start - tree.regions()[region as usize].sources.start) as usize;
+        let region_sums = &share.sums[first..first + members.len()];
+        out.extend(members.iter().zip(&sums).zip(region_sums).map(|((s, &own), &shared)| {
+            let sum = own + shared;
+            match &share.local {
+                Some(local) => (sum + local.at(s.position)).as_vec3(),
+                None => sum.as_vec3(),
+            }
+        }));
+    }
+    out
+}
+
+/// Fills `lists`, relative to `center`, with the sources of the runs
+/// `near` (leaf order) and the nodes `far` of `tree`, padded.
+fn fill(tree: &Octree, lists: &mut GroupLists, center: DVec3, near: &[Range<usize>], far: &[u32]) {
+    let (nodes, moments) = tree.nodes();
+    lists.clear(center);
+    for run in near {
+        lists.push_near(tree.columns(), run.clone());
+    }
+    lists.extend_far(far.iter().map(|&i| {
+        let (node, m) = (&nodes[i as usize], &moments[i as usize]);
+        (node.com, m.gm, m.quad)
+    }));
+    lists.pad();
+}
+
+/// The region walk of `tree` for the box `lo..=hi` of the groups in
+/// `boxes`: the subtrees the groups walk themselves into `open`, the rest
+/// into `found` (see the module's documentation).
+fn region_walk(
+    tree: &Octree,
+    lo: DVec3,
+    hi: DVec3,
+    boxes: &[(DVec3, DVec3)],
+    inverse_theta: f64,
+    open: &mut Vec<u32>,
+    found: &mut RegionLists,
+) {
+    let RegionLists { near, far, distant } = found;
+    near.clear();
+    far.clear();
+    open.clear();
+    distant.clear();
+    let (nodes, _) = tree.nodes();
+    let sources = tree.sources();
+    let center = (lo + hi) * 0.5;
+    let reach = local_reach(lo, hi, inverse_theta);
+    let beyond = |d: DVec3| d.length_squared() > reach * reach;
+    let mut i = 0;
+    while i < nodes.len() {
+        let node = &nodes[i];
+        if node.leaf {
+            let (middle, half) = node.cube();
+            if !beyond((center - middle).abs() + half) {
+                push_run(near, node.range());
+            } else {
+                // Its farthest corner is beyond: source by source.
+                for (k, s) in sources[node.range()].iter().enumerate() {
+                    if beyond(s.position - center) {
+                        distant.push(s.position - center, s.gm);
+                    } else {
+                        let k = node.first as usize + k;
+                        push_run(near, k..k + 1);
                     }
                 }
-            } else if node.accepts(lo, hi, inverse_theta) {
-                far.push(i as u32);
-            } else if node.opened_by_all(lo, hi, inverse_theta)
-                || boxes.iter().all(|&(lo, hi)| !node.accepts(lo, hi, inverse_theta))
-                || beyond(center - node.clamp(center))
-            {
-                // Opened by every group (surely by any box in the region's,
-                // or else by each group's own box), or so far that the
-                // region decides for its groups: it opens the node, its
-                // leaves go to the local expansion.
-                i += 1;
-                continue;
-            } else {
-                open.push(i as u32);
             }
-            i = node.skip as usize;
+        } else if node.accepts(lo, hi, inverse_theta) {
+            far.push(i as u32);
+        } else if node.opened_by_all(lo, hi, inverse_theta)
+            || boxes.iter().all(|&(lo, hi)| !node.accepts(lo, hi, inverse_theta))
+            || beyond(center - node.clamp(center))
+        {
+            // Opened by every group (surely by any box in the region's,
+            // or else by each group's own box), or so far that the
+            // region decides for its groups: it opens the node, its
+            // leaves go to the local expansion.
+            i += 1;
+            continue;
+        } else {
+            open.push(i as u32);
         }
-        distant.pad();
+        i = node.skip as usize;
     }
+    distant.pad();
 }
 
 #[cfg(test)]
@@ -243,8 +242,8 @@ mod tests {
     use super::*;
     use crate::components::BodyId;
     use crate::rng::Rng;
-    use crate::systems::gravity_tree::tests::{cluster, uniform};
-    use crate::systems::{GravitySource, acceleration_at};
+    use crate::systems::gravity::source::{GravitySource, acceleration_at};
+    use crate::systems::gravity::tree::tests::{cluster, uniform};
 
     /// Every source's acceleration from the walks, in the order given; the
     /// regions cut into uneven chunks as threads would.
@@ -254,13 +253,13 @@ mod tests {
         let cuts = |n: usize| [0, n / 7, n / 3, n / 3 + 1, n];
         let shares: Vec<RegionShare> = cuts(tree.region_count())
             .windows(2)
-            .flat_map(|w| tree.region_shares(w[0]..w[1], theta, 1.0))
+            .flat_map(|w| region_shares(&tree, w[0]..w[1], theta, 1.0))
             .collect();
         let mut out = vec![Vec3::ZERO; sources.len()];
         let group_cuts = cuts(tree.group_count());
         let leaf_order = group_cuts
             .windows(2)
-            .flat_map(|w| tree.group_accelerations(w[0]..w[1], &shares, theta, 1.0));
+            .flat_map(|w| group_accelerations(&tree, w[0]..w[1], &shares, theta, 1.0));
         for (a, &k) in leaf_order.zip(tree.given_order()) {
             out[k as usize] = a;
         }
@@ -372,7 +371,7 @@ mod tests {
                 .iter()
                 .map(|g| bounds(&tree.sources()[g.start as usize..g.end as usize]))
                 .collect();
-            tree.region_walk(lo, hi, &boxes, inverse_theta, &mut open, &mut found);
+            region_walk(&tree, lo, hi, &boxes, inverse_theta, &mut open, &mut found);
             assert!(found.distant.is_empty(), "region {r} expanded sources");
             for &group in &boxes {
                 let (mut runs, mut far) = walk(&open, group);
@@ -422,7 +421,7 @@ mod tests {
             .map(|r| bounds(&tree.sources()[r.sources.start as usize..r.sources.end as usize]))
             .min_by(|a, b| (a.1 - a.0).length().total_cmp(&(b.1 - b.0).length()))
             .unwrap();
-        tree.region_walk(lo, hi, &[(lo, hi)], 2.0, &mut open, &mut found);
+        region_walk(&tree, lo, hi, &[(lo, hi)], 2.0, &mut open, &mut found);
         assert!(found.distant.count() > 500, "{} expanded", found.distant.count());
         let e = errors(&sources, 0.5);
         let (median, p99) = (e[e.len() / 2], e[e.len() * 99 / 100]);
@@ -438,8 +437,8 @@ mod tests {
         let sources = cluster(3000, 3);
         let mut tree = Octree::default();
         tree.rebuild(&sources);
-        let whole: Vec<RegionShare> = tree.region_shares(0..tree.region_count(), 0.5, 1.0);
-        let once = tree.group_accelerations(0..tree.group_count(), &whole, 0.5, 1.0);
+        let whole: Vec<RegionShare> = region_shares(&tree, 0..tree.region_count(), 0.5, 1.0);
+        let once = group_accelerations(&tree, 0..tree.group_count(), &whole, 0.5, 1.0);
         let bits = |v: &[Vec3]| {
             v.iter()
                 .flat_map(|a| a.to_array().map(f32::to_bits))

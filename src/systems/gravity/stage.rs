@@ -1,38 +1,17 @@
-//! Stage 1: gravitational acceleration of every adopter, applied at once
-//! as the first half of the semi-implicit Euler step (docs/design.md,
-//! "Gravity").
-//!
-//! `a_i = Σ_j G·m_j·(p_j − p_i) / (|p_j − p_i|² + ε²)^{3/2}` over all sources
-//! `j ≠ i` at non-zero distance, summed in f64 in ascending `BodyId` order.
-//! Each body's sum is independent of every other, so any split of the bodies
-//! gives the same bits. The stage ends with the kick `v_i += a_i·dt`: only
-//! velocities change, every sum reads positions from before the update, and
-//! the integration stage then drifts `p += v·dt`. The arithmetic is exactly
-//! "compute `a`, then `v += a·dt`"; not storing `a` between the stages saves
-//! 20 bytes per body (a component and its change ticks).
+//! The stage: [`GravityPlugin`] and its system, the pull it sums by
+//! ([`prepare_pull`], `Auto` decided; [`GravityInUse`] for the HUD), and
+//! the kick `v += a·dt` ([`gravity_kernel`]); see the module's
+//! documentation in `gravity/mod.rs`.
 
-use std::time::Instant;
-
-use bevy::math::DVec3;
 use bevy::prelude::*;
 
-use super::gravity_tree::Octree;
-use super::gravity_walk::RegionShare;
+use super::source::{GravitySource, acceleration_at};
+use super::tree::Octree;
+use super::walk::{RegionShare, group_accelerations, region_shares};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::execution::{Execution, StageExecution};
 use crate::resources::{GravityMethod, SimulationSettings};
-use crate::systems::{SimulationSystems, SimulationUpdate, StageTimings};
-
-/// A body that attracts others, as the kernel sees it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GravitySource {
-    /// The source's id (a body does not pull itself).
-    pub id: BodyId,
-    /// Where it is, in f64.
-    pub position: DVec3,
-    /// `G·m`.
-    pub gm: f64,
-}
+use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
 
 /// The columns the gravity kernel reads and writes.
 pub type GravityColumns<'a> = (&'a [BodyId], &'a [Position], &'a [GravityRole], &'a mut [Velocity]);
@@ -72,40 +51,6 @@ impl Default for GravityInUse {
         }
     }
 }
-
-/// Acceleration of the body `id` at `position` due to `sources`.
-/// `softening2` is `ε²`. Non-finite input gives non-finite output; the
-/// caller keeps positions finite.
-#[inline]
-pub fn acceleration_at(id: BodyId, position: Vec3, sources: &[GravitySource], softening2: f64) -> Vec3 {
-    let mut a = DVec3::ZERO;
-    add_pulls(&mut a, id, position.as_dvec3(), sources, softening2);
-    a.as_vec3()
-}
-
-/// The factor `G·m / (r² + ε²)^{3/2}` by which a source at squared
-/// distance `r2` pulls along the distance vector: the one formula of
-/// gravity between two bodies.
-#[inline(always)]
-pub fn pull_factor(r2: f64, gm: f64, softening2: f64) -> f64 {
-    let r2 = r2 + softening2;
-    gm / (r2 * r2.sqrt())
-}
-
-/// Adds the pull of each of `sources` in order to `a`, for the body `id`
-/// at `p`: all but itself and sources at its very position.
-#[inline]
-pub fn add_pulls(a: &mut DVec3, id: BodyId, p: DVec3, sources: &[GravitySource], softening2: f64) {
-    for s in sources {
-        let d = s.position - p;
-        let r2 = d.length_squared();
-        if s.id == id || r2 == 0.0 {
-            continue;
-        }
-        *a += d * pull_factor(r2, s.gm, softening2);
-    }
-}
-
 /// Where the pull comes from: every source, or their octree.
 #[derive(Clone, Copy, Debug)]
 pub enum Pull<'a> {
@@ -225,13 +170,13 @@ fn tree_pull<'a>(
     let tree = &*tree;
     let shares: Vec<RegionShare> = stage
         .map_uneven_chunks(0..tree.region_count(), |regions| {
-            tree.region_shares(regions, theta, softening2)
+            region_shares(tree, regions, theta, softening2)
         })
         .into_iter()
         .flatten()
         .collect();
     let by_group = stage.map_uneven_chunks(0..tree.group_count(), |groups| {
-        tree.group_accelerations(groups, &shares, theta, softening2)
+        group_accelerations(tree, groups, &shares, theta, softening2)
     });
     accelerations.clear();
     accelerations.resize(sources.len(), Vec3::ZERO);
@@ -319,14 +264,13 @@ struct GravityScratch {
 
 fn apply_gravity(
     settings: Res<SimulationSettings>,
-    execution: Res<Execution>,
-    mut timings: ResMut<StageTimings>,
+    mut stage: Stage,
     mut in_use: ResMut<GravityInUse>,
     mut scratch: Local<GravityScratch>,
     all: Query<(&BodyId, &Position, &Mass, &GravityRole)>,
     mut bodies: Query<(&BodyId, &Position, &GravityRole, &mut Velocity)>,
 ) {
-    let start = Instant::now();
+    let clock = stage.start(SimulationSystems::Gravity);
     let all = all.contiguous_iter().expect("body components are table-stored");
     let GravityScratch { sources, pull } = &mut *scratch;
     collect_sources(all, f64::from(settings.gravitational_constant), sources);
@@ -336,7 +280,7 @@ fn apply_gravity(
         sources,
         bodies.iter().len(),
         softening2,
-        &execution,
+        clock.executor(),
         pull,
     );
     in_use.set_if_neq(GravityInUse {
@@ -349,48 +293,13 @@ fn apply_gravity(
         let columns = (ids, positions, roles, velocities.bypass_change_detection());
         stage.for_chunks(columns, |columns| gravity_kernel(columns, pull, softening2, dt));
     }
-    timings.record(SimulationSystems::Gravity, start.elapsed());
+    clock.finish();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn source(id: u64, p: [f64; 3], gm: f64) -> GravitySource {
-        GravitySource {
-            id: BodyId(id),
-            position: DVec3::from_array(p),
-            gm,
-        }
-    }
-
-    #[test]
-    fn inverse_square_towards_the_source() {
-        let sources = [source(0, [0.0, 0.0, 0.0], 8.0)];
-        let a = acceleration_at(BodyId(1), Vec3::new(2.0, 0.0, 0.0), &sources, 0.0);
-        assert_eq!(a, Vec3::new(-2.0, 0.0, 0.0)); // 8 / 2² towards the origin
-    }
-
-    #[test]
-    fn skips_itself_and_coincident_sources() {
-        let sources = [source(0, [0.0, 0.0, 0.0], 1.0), source(1, [3.0, 0.0, 0.0], 1.0)];
-        assert_eq!(
-            acceleration_at(BodyId(1), Vec3::new(3.0, 0.0, 0.0), &sources[1..], 0.0),
-            Vec3::ZERO
-        );
-        assert_eq!(acceleration_at(BodyId(7), Vec3::ZERO, &sources[..1], 0.0), Vec3::ZERO);
-    }
-
-    #[test]
-    fn softening_bounds_the_pull_at_close_range() {
-        let sources = [source(0, [0.0, 0.0, 0.0], 1.0)];
-        let close = Vec3::new(1e-3, 0.0, 0.0);
-        let hard = acceleration_at(BodyId(1), close, &sources, 0.0).length();
-        let soft = acceleration_at(BodyId(1), close, &sources, 1.0).length();
-        assert!(hard > 1e5);
-        // |a| = r / (r² + ε²)^{3/2} ≈ r for ε = 1.
-        assert!((soft - 1e-3).abs() < 1e-6, "softened pull {soft}");
-    }
+    use crate::systems::gravity::source::tests::source;
 
     #[test]
     fn kernel_kicks_adopters_only() {

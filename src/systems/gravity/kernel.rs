@@ -4,7 +4,7 @@
 //! bodies then runs down them in [`LANES`] independent partial sums, the
 //! slots of a SIMD register. The lanes are added in one fixed order at the
 //! end, so a body's sum over a set of lists depends on those lists alone
-//! (`gravity_walk` adds a body's region's and group's sums and the local
+//! (`walk.rs` adds a body's region's and group's sums and the local
 //! expansion).
 //!
 //! The lists hold `f32` positions relative to a center near their bodies
@@ -14,34 +14,16 @@
 //! result, while `f32`'s division and square root cost a fraction of
 //! `f64`'s and a register holds twice the lanes. Each lane's `f32` partial
 //! sum is carried over into `f64` every [`BLOCK`] terms. Which [`Kernel`]
-//! runs depends on the processor: `gravity_avx512`'s (sixteen lanes, `1/r`
+//! runs depends on the processor: `avx512.rs`'s (sixteen lanes, `1/r`
 //! and `1/r³` from an estimate and a Newton step, fused multiply-adds: the
-//! last bits differ), `gravity_avx`'s (the same operations as lane by lane
+//! last bits differ), `avx.rs`'s (the same operations as lane by lane
 //! in the same order, so the same bits), or lane by lane here. A processor
 //! always runs the same one, so sequential and parallel agree.
 
 use bevy::math::DVec3;
 
-use super::gravity::GravitySource;
-
-/// Partial sums per component: the `f32` slots of a 256-bit register.
-pub const LANES: usize = 8;
-
-/// Terms per lane summed in `f32` before the lane's partial sum is carried
-/// over into `f64`.
-pub const BLOCK: usize = 16;
-
-/// The lists are padded to a multiple of this many entries: whole 512-bit
-/// registers for the AVX-512 kernel, whole chunks of [`LANES`] for the
-/// others (the padding adds exactly nothing).
-pub const PAD_TO: usize = 16;
-
-const _: () = assert!(PAD_TO.is_multiple_of(LANES), "padded lists are whole chunks of LANES");
-
-/// Padding: a massless entry this far away adds exactly nothing (an
-/// infinite squared distance in `f32`, a finite distance from any position
-/// a body may have, ±10³⁰, so no NaN).
-pub(super) const FAR_AWAY: f32 = f32::MAX / 4.0;
+use super::columns::{BLOCK, GroupLists, LANES, lanes_total};
+use super::source::GravitySource;
 
 /// The pull of a source `G·m` = `gm` at `d` from the body (`ε²` =
 /// `softening2`): `G·m·d/(|d|² + ε²)^{3/2}`, or nothing at distance 0 (the
@@ -88,116 +70,6 @@ pub fn far_term(gm: f32, q: [f32; 6], r: [f32; 3], softening2: f32) -> [f32; 3] 
     }
 }
 
-/// The tree's sources in leaf order as columns, as the near lists copy
-/// them: position (`f64`) and `G·m` (`f32`).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct LeafSources {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    z: Vec<f64>,
-    gm: Vec<f32>,
-}
-
-impl LeafSources {
-    /// The columns of `sources`, reusing this one's memory.
-    pub fn fill(&mut self, sources: &[GravitySource]) {
-        self.x.clear();
-        self.y.clear();
-        self.z.clear();
-        self.gm.clear();
-        self.x.extend(sources.iter().map(|s| s.position.x));
-        self.y.extend(sources.iter().map(|s| s.position.y));
-        self.z.extend(sources.iter().map(|s| s.position.z));
-        self.gm.extend(sources.iter().map(|s| s.gm as f32));
-    }
-}
-
-/// What a group or a region of bodies sums, as columns relative to a
-/// center near them, each padded with massless entries to a multiple of [`PAD_TO`]:
-/// the sources it sums one by one (position, `G·m`) and the nodes it takes
-/// whole (center of mass, `G·m`, quadrupole).
-#[derive(Clone, Debug, Default)]
-pub struct GroupLists {
-    pub(super) center: DVec3,
-    pub(super) near: [Vec<f32>; 4],
-    pub(super) far: [Vec<f32>; 10],
-}
-
-impl GroupLists {
-    /// Empty lists with room for `near` sources and `far` nodes, so that
-    /// a chunk of groups does not grow them step by step.
-    pub fn with_capacity(near: usize, far: usize) -> Self {
-        Self {
-            center: DVec3::ZERO,
-            near: std::array::from_fn(|_| Vec::with_capacity(near)),
-            far: std::array::from_fn(|_| Vec::with_capacity(far)),
-        }
-    }
-
-    /// Empties the lists, keeping their memory; positions are taken
-    /// relative to `center` from now on.
-    pub fn clear(&mut self, center: DVec3) {
-        self.center = center;
-        self.near.iter_mut().chain(&mut self.far).for_each(Vec::clear);
-    }
-
-    /// Where `p` is from the center, in `f32`.
-    #[inline]
-    pub(super) fn relative(&self, p: DVec3) -> [f32; 3] {
-        (p - self.center).as_vec3().to_array()
-    }
-
-    /// Appends the sources `range` of `sources` to sum one by one.
-    pub fn push_near(&mut self, sources: &LeafSources, range: std::ops::Range<usize>) {
-        let c = self.center;
-        let [x, y, z, gm] = &mut self.near;
-        x.extend(sources.x[range.clone()].iter().map(|v| (v - c.x) as f32));
-        y.extend(sources.y[range.clone()].iter().map(|v| (v - c.y) as f32));
-        z.extend(sources.z[range.clone()].iter().map(|v| (v - c.z) as f32));
-        gm.extend_from_slice(&sources.gm[range]);
-    }
-
-    /// Appends a node to take whole: its center of mass, `G·m` and
-    /// quadrupole per unit of `G·m` (see [`far_term`]).
-    pub fn push_far(&mut self, com: DVec3, gm: f32, quad: [f32; 6]) {
-        self.extend_far([(com, gm, quad)].iter().copied());
-    }
-
-    /// Appends nodes to take whole, as [`push_far`](Self::push_far) does,
-    /// column by column (no growth check per value).
-    pub fn extend_far<I>(&mut self, nodes: I)
-    where
-        I: Iterator<Item = (DVec3, f32, [f32; 6])> + Clone,
-    {
-        let c = self.center;
-        let [x, y, z, gm, quad @ ..] = &mut self.far;
-        x.extend(nodes.clone().map(|(p, ..)| (p.x - c.x) as f32));
-        y.extend(nodes.clone().map(|(p, ..)| (p.y - c.y) as f32));
-        z.extend(nodes.clone().map(|(p, ..)| (p.z - c.z) as f32));
-        gm.extend(nodes.clone().map(|(_, gm, _)| gm));
-        for (k, column) in quad.iter_mut().enumerate() {
-            column.extend(nodes.clone().map(|(.., q)| q[k]));
-        }
-    }
-
-    /// Pads both lists to a multiple of [`PAD_TO`] with massless entries
-    /// far away (each list's first three columns are the position).
-    pub fn pad(&mut self) {
-        for columns in [&mut self.near[..], &mut self.far[..]] {
-            while !columns[0].len().is_multiple_of(PAD_TO) {
-                for (k, column) in columns.iter_mut().enumerate() {
-                    column.push(if k < 3 { FAR_AWAY } else { 0.0 });
-                }
-            }
-        }
-    }
-
-    /// The number of whole lanes in the near and far lists.
-    pub(super) fn chunks(&self) -> (usize, usize) {
-        (self.near[3].len() / LANES, self.far[3].len() / LANES)
-    }
-}
-
 /// The per-lane sums of `term(i)` over the `chunks` chunks of [`LANES`]
 /// entries, entry `i` in lane `i % LANES`: blocks of [`BLOCK`] chunks summed
 /// in `f32`, each block then carried into the `f64` sums (as the AVX
@@ -220,18 +92,6 @@ fn lane_sums(chunks: usize, term: impl Fn(usize) -> [f32; 3]) -> [[f64; LANES]; 
         }
     }
     sums
-}
-
-/// The sum of `LANES` lanes, pairwise in a fixed order.
-#[inline]
-pub(super) fn lane_total(l: [f64; LANES]) -> f64 {
-    ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]))
-}
-
-/// The sum of the lanes of each component, pairwise in a fixed order.
-#[inline]
-pub(super) fn lanes_total(a: [[f64; LANES]; 3]) -> DVec3 {
-    DVec3::new(lane_total(a[0]), lane_total(a[1]), lane_total(a[2]))
 }
 
 /// The pull of the lists on a body at `p`, lane by lane: the near sum,
@@ -260,10 +120,10 @@ fn group_pulls_plain(lists: &GroupLists, members: &[GravitySource], softening2: 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kernel {
     /// Sixteen lanes, `1/r` and `1/r³` from an estimate and a Newton step,
-    /// fused multiply-adds (`gravity_avx512`): the last bits differ from
+    /// fused multiply-adds (`avx512.rs`): the last bits differ from
     /// the others'.
     Avx512,
-    /// Eight lanes in AVX registers (`gravity_avx`): the same bits as
+    /// Eight lanes in AVX registers (`avx.rs`): the same bits as
     /// [`Plain`](Self::Plain).
     Avx,
     /// Lane by lane, on any processor.
@@ -316,7 +176,7 @@ impl Kernel {
                 // SAFETY: the processor has AVX-512 Foundation, checked just
                 // above, the one requirement of the AVX-512 kernel.
                 unsafe {
-                    super::gravity_avx512::group_pulls(lists, members, softening2, out);
+                    super::avx512::group_pulls(lists, members, softening2, out);
                 }
             }
             #[cfg(target_arch = "x86_64")]
@@ -325,7 +185,7 @@ impl Kernel {
                 // SAFETY: the processor has AVX, checked just above, the one
                 // requirement of the AVX kernel.
                 unsafe {
-                    super::gravity_avx::group_pulls(lists, members, softening2, out);
+                    super::avx::group_pulls(lists, members, softening2, out);
                 }
             }
             _ => group_pulls_plain(lists, members, softening2, out),
@@ -344,7 +204,8 @@ mod tests {
     use super::*;
     use crate::components::BodyId;
     use crate::rng::Rng;
-    use crate::systems::add_pulls;
+    use crate::systems::gravity::columns::LeafSources;
+    use crate::systems::gravity::source::add_pulls;
     use bevy::math::Vec3;
 
     fn sources(count: u64) -> Vec<GravitySource> {

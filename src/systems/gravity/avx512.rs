@@ -1,4 +1,4 @@
-//! The walks' kernel (`gravity_columns`) with AVX-512: sixteen
+//! The walks' kernel (`kernel.rs`) with AVX-512: sixteen
 //! `f32` lanes in one 512-bit register, and `1/r` from the processor's
 //! approximate reciprocal square root (`vrsqrt14ps`, 14 bits) refined by
 //! one Newton step, instead of a division and a square root: those run on
@@ -16,8 +16,8 @@ use std::arch::x86_64::*;
 
 use bevy::math::DVec3;
 
-use super::gravity::GravitySource;
-use super::gravity_columns::{BLOCK, GroupLists, PAD_TO};
+use super::columns::{BLOCK, GroupLists, PAD_TO};
+use super::source::GravitySource;
 
 /// Entries in a register.
 const WIDE: usize = 16;
@@ -53,7 +53,7 @@ fn finite(among: __mmask16, s: __m512) -> __mmask16 {
     _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(among, s, _mm512_set1_ps(f32::INFINITY))
 }
 
-/// Adds `gravity_columns::near_term` in each slot to `sum`: `G·m·d/s^{3/2}`
+/// Adds `kernel::near_term` in each slot to `sum`: `G·m·d/s^{3/2}`
 /// with `s = |d|² + ε²`. From the estimate `y ≈ 1/√s`, `1/s^{3/2}` is
 /// `y³·(5/2 − (3/2)·s·y²)`, a Newton step taken on `y³` (relative error
 /// `7.5·e²` for an estimate off by `e` ≤ 2⁻¹⁴: below `f32`'s rounding).
@@ -107,7 +107,7 @@ fn near_sums<const SOFTENED: bool>(lists: &GroupLists, at: &[DVec3], totals: &mu
     });
 }
 
-/// Adds `gravity_columns::far_term` in each slot to `sum`, in its form:
+/// Adds `kernel::far_term` in each slot to `sum`, in its form:
 /// `G·m/r²` times ratios of lengths (not `G·m/r⁴` on its own), so that no
 /// intermediate overflows or falls into `f32`'s subnormal range unless the
 /// term itself would; nothing where `r²` overflows.
@@ -229,7 +229,7 @@ fn list_sums<const N: usize>(
     }
 }
 
-/// `gravity_columns::group_pulls` with AVX-512: the near sum, then the far
+/// `kernel::group_pulls` with AVX-512: the near sum, then the far
 /// sum, added in `f64`.
 #[target_feature(enable = "avx512f")]
 pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<DVec3>) {
