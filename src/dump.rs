@@ -7,34 +7,31 @@ use std::io::{self, Write};
 
 use crate::components::BodyState;
 
-/// The header line — a stable contract.
-pub const HEADER: &str = "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts";
+/// One body's row: its columns (the header, a stable contract) and cells
+/// are declared together below.
+pub struct DumpRow<'a>(pub &'a BodyState);
+
+crate::csv_row!(DumpRow<'_>, |row| {
+    id: row.0.id.0,
+    x: row.0.position.x,
+    y: row.0.position.y,
+    z: row.0.position.z,
+    vx: row.0.velocity.x,
+    vy: row.0.velocity.y,
+    vz: row.0.velocity.z,
+    mass: row.0.mass,
+    hx: row.0.half_extents.x,
+    hy: row.0.half_extents.y,
+    hz: row.0.half_extents.z,
+    role: row.0.role.name(),
+    interacts: row.0.interacts,
+});
 
 /// Writes the header and one row per body, in the order given.
-pub fn write_csv(bodies: &[BodyState], mut out: impl Write) -> io::Result<()> {
+pub fn write_csv(bodies: &[BodyState], out: impl Write) -> io::Result<()> {
     BodyState::check_all_finite(bodies)?;
-    writeln!(out, "{HEADER}")?;
-    for b in bodies {
-        let (p, v, h) = (b.position, b.velocity, b.half_extents);
-        writeln!(
-            out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            b.id.0,
-            p.x,
-            p.y,
-            p.z,
-            v.x,
-            v.y,
-            v.z,
-            b.mass,
-            h.x,
-            h.y,
-            h.z,
-            b.role.name(),
-            b.interacts
-        )?;
-    }
-    out.flush()
+    let rows: Vec<DumpRow<'_>> = bodies.iter().map(DumpRow).collect();
+    crate::output::write_csv(out, &rows)
 }
 
 #[cfg(test)]
@@ -43,6 +40,7 @@ mod tests {
 
     use super::*;
     use crate::components::{BodyId, GravityRole};
+    use crate::output::{CsvTable, header};
 
     #[test]
     fn rows_use_shortest_round_trip_floats() {
@@ -62,8 +60,14 @@ mod tests {
         let text = String::from_utf8(out).unwrap();
         assert_eq!(
             text,
-            format!("{HEADER}\n3,0.1,-2,0.0000001,0.81694555,0,-0,4000,430,430,430,SourceAndAdopter,false\n")
+            "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts\n3,0.1,-2,0.0000001,0.81694555,0,-0,4000,430,430,430,SourceAndAdopter,false\n"
         );
+        assert_eq!(
+            header::<DumpRow<'_>>(),
+            "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts"
+        );
+        let table = CsvTable::parse::<DumpRow<'_>>(&text).unwrap();
+        assert_eq!(table.column("vx").unwrap(), ["0.81694555"]);
         let x: f32 = "0.81694555".parse().unwrap();
         assert_eq!(x.to_bits(), 0.81694555f32.to_bits());
     }

@@ -9,10 +9,6 @@ use std::io::{self, Write};
 use crate::Simulation;
 use crate::systems::Totals;
 
-/// The header line — a stable contract.
-pub const HEADER: &str =
-    "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z";
-
 /// One row: the state after `update` updates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TimelineRow {
@@ -27,6 +23,20 @@ pub struct TimelineRow {
     /// Bodies, mass, kinetic energy and momentum now.
     pub totals: Totals,
 }
+
+// The columns (the header, a stable contract) and cells of a row.
+crate::csv_row!(TimelineRow, |r| {
+    update: r.update,
+    bodies: r.totals.bodies,
+    pairs: r.pairs,
+    shatters: r.shatters,
+    refused_shatters: r.refused_shatters,
+    mass: r.totals.mass,
+    kinetic_energy: r.totals.kinetic_energy,
+    momentum_x: r.totals.momentum.x,
+    momentum_y: r.totals.momentum.y,
+    momentum_z: r.totals.momentum.z,
+});
 
 /// Rows taken every `every` updates, and after the last.
 #[derive(Clone, Debug)]
@@ -89,16 +99,7 @@ impl Timeline {
 
     /// Writes the header and the rows, floats in Rust's shortest
     /// round-trip form.
-    pub fn write_csv(&self, mut out: impl Write) -> io::Result<()> {
-        writeln!(out, "{HEADER}")?;
-        for r in &self.rows {
-            let (t, p) = (r.totals, r.totals.momentum);
-            writeln!(
-                out,
-                "{},{},{},{},{},{},{},{},{},{}",
-                r.update, t.bodies, r.pairs, r.shatters, r.refused_shatters, t.mass, t.kinetic_energy, p.x, p.y, p.z
-            )?;
-        }
-        out.flush()
+    pub fn write_csv(&self, out: impl Write) -> io::Result<()> {
+        crate::output::write_csv(out, &self.rows)
     }
 }

@@ -15,9 +15,6 @@ use super::report::times_by_stage;
 use super::run::RunResult;
 use crate::execution::{ExecutionMode, SplitPolicy};
 
-/// Header of `<stem>-crossover.csv`.
-pub const CROSSOVER_HEADER: &str = "stage,threads,crossover_bodies,counts,auto_worst_percent,auto_worst_bodies";
-
 /// The crossover of one stage (or `update`) on one thread count.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Crossover {
@@ -37,14 +34,25 @@ pub struct Crossover {
     pub auto_worst: Option<(f64, u64)>,
 }
 
-impl Crossover {
-    /// The CSV row (no line end); an empty field where nothing was found.
-    pub fn row(&self) -> String {
-        let from = self.from_bodies.map_or(String::new(), |n| n.to_string());
-        let (percent, at) = self.auto_worst.map_or((String::new(), String::new()), |(p, at)| {
-            (format!("{p:.1}"), at.to_string())
-        });
-        format!("{},{},{from},{},{percent},{at}", self.stage, self.threads, self.counts)
+// A row of `<stem>-crossover.csv`: an empty cell where nothing was found.
+crate::csv_row!(Crossover, |c| {
+    stage: c.stage,
+    threads: c.threads,
+    crossover_bodies: Blank(c.from_bodies),
+    counts: c.counts,
+    auto_worst_percent: Blank(c.auto_worst.map(|(p, _)| format!("{p:.1}"))),
+    auto_worst_bodies: Blank(c.auto_worst.map(|(_, at)| at)),
+});
+
+/// A cell that is empty where there is no value.
+struct Blank<T>(Option<T>);
+
+impl<T: std::fmt::Display> std::fmt::Display for Blank<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0 {
+            Some(value) => value.fmt(f),
+            None => Ok(()),
+        }
     }
 }
 
@@ -230,7 +238,7 @@ mod tests {
             "{worst} at {at}"
         );
         assert_eq!(found.len(), 1 + STAGE_COUNT, "the update and every stage");
-        assert_eq!(update.row(), "update,2,2000,4,22.2,100");
+        assert_eq!(crate::output::line(update).unwrap(), "update,2,2000,4,22.2,100");
     }
 
     #[test]
@@ -250,7 +258,7 @@ mod tests {
             .find(|c| c.stage == "update")
             .unwrap();
         assert_eq!((update.from_bodies, update.auto_worst), (None, None));
-        assert_eq!(update.row(), "update,2,,2,,");
+        assert_eq!(crate::output::line(&update).unwrap(), "update,2,,2,,");
         assert!(
             crossovers(&all[..2], Wins::EveryPass).is_empty(),
             "no Always runs: nothing to say"

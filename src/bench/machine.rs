@@ -2,7 +2,6 @@
 //! `<stem>-machine.txt`, so that figures never travel without it.
 
 use std::fmt::Write as _;
-use std::time::{SystemTime, UNIX_EPOCH};
 
 use crate::execution::available_threads;
 use crate::systems::Kernel;
@@ -107,29 +106,21 @@ fn os_name() -> String {
 
 /// Now as `YYYY-MM-DD HH:MM:SS UTC`.
 pub fn utc_now() -> String {
-    let secs = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs());
-    let (days, rest) = (secs / 86_400, secs % 86_400);
-    let (y, m, d) = civil_from_days(days as i64);
-    format!(
-        "{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC",
-        rest / 3600,
-        rest % 3600 / 60,
-        rest % 60
-    )
+    utc(time::OffsetDateTime::now_utc())
 }
 
-/// The proleptic Gregorian date of a day count since 1970-01-01 (Howard
-/// Hinnant's `civil_from_days`).
-fn civil_from_days(z: i64) -> (i64, u32, u32) {
-    let z = z + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    (yoe + era * 400 + i64::from(m <= 2), m, d)
+/// `at` as `YYYY-MM-DD HH:MM:SS UTC`.
+fn utc(at: time::OffsetDateTime) -> String {
+    let at = at.to_offset(time::UtcOffset::UTC);
+    format!(
+        "{:04}-{:02}-{:02} {:02}:{:02}:{:02} UTC",
+        at.year(),
+        u8::from(at.month()),
+        at.day(),
+        at.hour(),
+        at.minute(),
+        at.second()
+    )
 }
 
 #[cfg(test)]
@@ -138,9 +129,12 @@ mod tests {
 
     #[test]
     fn dates_from_day_counts() {
-        assert_eq!(civil_from_days(0), (1970, 1, 1));
-        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
-        assert_eq!(civil_from_days(20_787), (2026, 11, 30));
+        let day = |days: i64| utc(time::OffsetDateTime::from_unix_timestamp(days * 86_400).unwrap());
+        assert_eq!(day(0), "1970-01-01 00:00:00 UTC");
+        assert_eq!(day(11_016), "2000-02-29 00:00:00 UTC");
+        assert_eq!(day(20_787), "2026-11-30 00:00:00 UTC");
+        let at = time::OffsetDateTime::from_unix_timestamp(20_787 * 86_400 + 3_723).unwrap();
+        assert_eq!(utc(at), "2026-11-30 01:02:03 UTC");
     }
 
     #[test]

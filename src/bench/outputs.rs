@@ -6,11 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{
-    CROSSOVER_HEADER, Crossover, OVERHEAD_HEADER, RunResult, overhead_rows, passes_header, png, result_row,
-    results_header, svg,
-};
-use crate::output::{AppendedFile, OutputError, OutputProblem, WriteError, check_new, write_atomically};
+use super::{Crossover, OverheadRow, PassRow, RenderRow, RunResult, overhead_rows, png, svg};
+use crate::output::{AppendedFile, OutputError, OutputProblem, WriteError, check_new, write_atomically, write_csv};
 
 /// What to do when an output exists already.
 const NEVER_OVERWRITE: &str = "remove it or choose another --out (results are never overwritten)";
@@ -51,18 +48,21 @@ pub enum BenchOutputError {
 #[derive(Debug)]
 pub struct GrowingOutputs {
     /// Results rows, as each run's last pass ends.
-    pub results: Option<AppendedFile>,
+    pub results: Option<AppendedFile<RunResult>>,
     /// Pass rows, as each pass of a run ends.
-    pub passes: Option<AppendedFile>,
+    pub passes: Option<AppendedFile<PassRow>>,
     /// Window rows, as each window run ends.
-    pub render: Option<AppendedFile>,
+    pub render: Option<AppendedFile<RenderRow>>,
 }
 
 impl GrowingOutputs {
     /// Adds `result`, measured in pass `pass`, to the passes.
     pub fn add_pass(&mut self, pass: u64, result: &RunResult) -> Result<(), WriteError> {
         match &mut self.passes {
-            Some(file) => file.append(&format!("{pass},{}", result_row(result))),
+            Some(file) => file.append(&PassRow {
+                pass,
+                result: result.clone(),
+            }),
             None => Ok(()),
         }
     }
@@ -70,13 +70,13 @@ impl GrowingOutputs {
     /// Adds a run's final figure to the results.
     pub fn add_result(&mut self, result: &RunResult) -> Result<(), WriteError> {
         match &mut self.results {
-            Some(file) => file.append(&result_row(result)),
+            Some(file) => file.append(result),
             None => Ok(()),
         }
     }
 
     /// Adds a window run's row.
-    pub fn add_render(&mut self, row: &str) -> Result<(), WriteError> {
+    pub fn add_render(&mut self, row: &RenderRow) -> Result<(), WriteError> {
         match &mut self.render {
             Some(file) => file.append(row),
             None => Ok(()),
@@ -162,23 +162,12 @@ impl BenchOutputs {
 
     /// Writes the machine report and creates the files that grow while the
     /// benchmark runs: the results and passes if there are headless runs,
-    /// the window rows (with `render_header`) if there are window runs.
-    pub fn start(
-        &self,
-        machine: &str,
-        headless: bool,
-        render_header: Option<&str>,
-    ) -> Result<GrowingOutputs, WriteError> {
+    /// the window rows if there are window runs.
+    pub fn start(&self, machine: &str, headless: bool, render: bool) -> Result<GrowingOutputs, WriteError> {
         write_atomically(&self.machine, |w| w.write_all(machine.as_bytes()))?;
-        let results = headless
-            .then(|| AppendedFile::create(&self.results, &results_header()))
-            .transpose()?;
-        let passes = headless
-            .then(|| AppendedFile::create(&self.passes, &passes_header()))
-            .transpose()?;
-        let render = render_header
-            .map(|header| AppendedFile::create(&self.render, header))
-            .transpose()?;
+        let results = headless.then(|| AppendedFile::create(&self.results)).transpose()?;
+        let passes = headless.then(|| AppendedFile::create(&self.passes)).transpose()?;
+        let render = render.then(|| AppendedFile::create(&self.render)).transpose()?;
         Ok(GrowingOutputs {
             results,
             passes,
@@ -191,7 +180,7 @@ impl BenchOutputs {
     pub fn finish(
         &self,
         results: &[RunResult],
-        empty_steps: &[String],
+        empty_steps: &[OverheadRow],
         crossovers: &[Crossover],
         title: &str,
     ) -> Result<Finished, BenchOutputError> {
@@ -202,15 +191,11 @@ impl BenchOutputs {
         let mut overhead = overhead_rows(results);
         overhead.extend_from_slice(empty_steps);
         if !overhead.is_empty() {
-            write_atomically(&self.overhead, |w| {
-                write_lines(w, OVERHEAD_HEADER, overhead.iter().cloned())
-            })?;
+            write_atomically(&self.overhead, |w| write_csv(w, &overhead))?;
             finished.overhead = true;
         }
         if !crossovers.is_empty() {
-            write_atomically(&self.crossover, |w| {
-                write_lines(w, CROSSOVER_HEADER, crossovers.iter().map(Crossover::row))
-            })?;
+            write_atomically(&self.crossover, |w| write_csv(w, crossovers))?;
             finished.crossover = true;
         }
         let plot = svg(results, crossovers, title)?;
@@ -220,14 +205,6 @@ impl BenchOutputs {
         finished.plot = true;
         Ok(finished)
     }
-}
-
-fn write_lines(w: &mut dyn std::io::Write, header: &str, rows: impl Iterator<Item = String>) -> std::io::Result<()> {
-    writeln!(w, "{header}")?;
-    for row in rows {
-        writeln!(w, "{row}")?;
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -12,10 +12,6 @@ use super::config::RenderRun;
 /// buffers fill).
 pub const WINDOW_WARMUP_FRAMES: u64 = 10;
 
-/// Header of `<stem>-render.csv`.
-pub const RENDER_HEADER: &str = "run,bodies,method,simulate,mode,vsync,frames,mean_fps,mean_frame_ms,p95_frame_ms,\
-updates_per_second,peak_ram_bytes,gpu_bytes,gpu_reserved_bytes,gpu_bytes_source,adapter";
-
 /// What a window run measured, as its child wrote it to the frame report.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FrameReport {
@@ -94,31 +90,46 @@ fn plain(text: &str) -> String {
         .collect()
 }
 
-/// The row of `<stem>-render.csv` for run `index` (from 1).
-pub fn render_row(index: usize, run: &RenderRun, report: &FrameReport) -> String {
-    let fps = if report.mean_ms > 0.0 {
-        1e3 / report.mean_ms
-    } else {
-        0.0
-    };
-    format!(
-        "{index},{},{},{},{},{},{},{fps:.2},{:.3},{:.3},{:.1},{},{},{},{},{}",
-        report.bodies,
-        run.method,
-        run.simulate,
-        run.mode,
-        if run.vsync { "on" } else { "off" },
-        report.frames,
-        report.mean_ms,
-        report.p95_ms,
-        report.updates_per_second,
-        report.peak_ram_bytes,
-        report.gpu_bytes,
-        report.gpu_reserved_bytes,
-        plain(&report.gpu_source),
-        plain(&report.adapter)
-    )
+/// The row of `<stem>-render.csv` for one window run.
+#[derive(Clone, Debug)]
+pub struct RenderRow {
+    /// The run's place in the config, from 1.
+    pub index: usize,
+    /// What the config asked for.
+    pub run: RenderRun,
+    /// What the child measured.
+    pub report: FrameReport,
 }
+
+impl RenderRow {
+    /// Frames per second from the mean frame time (0 without frames).
+    fn fps(&self) -> f64 {
+        if self.report.mean_ms > 0.0 {
+            1e3 / self.report.mean_ms
+        } else {
+            0.0
+        }
+    }
+}
+
+crate::csv_row!(RenderRow, |r| {
+    run: r.index,
+    bodies: r.report.bodies,
+    method: r.run.method,
+    simulate: r.run.simulate,
+    mode: r.run.mode,
+    vsync: if r.run.vsync { "on" } else { "off" },
+    frames: r.report.frames,
+    mean_fps: format_args!("{:.2}", r.fps()),
+    mean_frame_ms: format_args!("{:.3}", r.report.mean_ms),
+    p95_frame_ms: format_args!("{:.3}", r.report.p95_ms),
+    updates_per_second: format_args!("{:.1}", r.report.updates_per_second),
+    peak_ram_bytes: r.report.peak_ram_bytes,
+    gpu_bytes: r.report.gpu_bytes,
+    gpu_reserved_bytes: r.report.gpu_reserved_bytes,
+    gpu_bytes_source: plain(&r.report.gpu_source),
+    adapter: plain(&r.report.adapter),
+});
 
 /// The `kessler run` arguments of `run` on `scenario` (`None`: the
 /// window's default scene), reporting to `report` and keeping its settings
@@ -215,13 +226,19 @@ mod tests {
             adapter: "llvmpipe (LLVM 19, 256 bits)".into(),
         };
         assert_eq!(FrameReport::parse(&report.to_text()), Some(report.clone()));
+        let row = RenderRow {
+            index: 3,
+            run: run(),
+            report: report.clone(),
+        };
         assert_eq!(
-            render_row(3, &run(), &report),
+            crate::output::line(&row).unwrap(),
             "3,1001,mesh-per-body,false,parallel,off,50,250.00,4.000,6.500,0.0,123456,7890,65536,wgpu allocator,llvmpipe (LLVM 19  256 bits)"
         );
         assert_eq!(
-            RENDER_HEADER.split(',').count(),
-            render_row(3, &run(), &report).split(',').count()
+            crate::output::header::<RenderRow>(),
+            "run,bodies,method,simulate,mode,vsync,frames,mean_fps,mean_frame_ms,p95_frame_ms,\
+             updates_per_second,peak_ram_bytes,gpu_bytes,gpu_reserved_bytes,gpu_bytes_source,adapter"
         );
         assert_eq!(FrameReport::parse("bodies=x"), None);
     }

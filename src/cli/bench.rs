@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::Failure;
 use crate::bench::{
-    self, BenchConfig, BenchOutputs, GrowingOutputs, RENDER_HEADER, RunDefaults, RunResult, Wins, crossovers,
-    empty_step_ns, empty_step_row, machine_report, measure_render, render_row,
+    self, BenchConfig, BenchOutputs, GrowingOutputs, OverheadRow, RenderRow, RunDefaults, RunResult, Wins, crossovers,
+    empty_step_ns, empty_step_row, machine_report, measure_render,
 };
 use crate::calibration::machine_auto_split;
 use crate::execution::SplitPolicy;
@@ -60,7 +60,7 @@ pub fn bench(
         machine_report(&command.join(" ")),
         defaults.auto.origin()
     );
-    let mut growing = outputs.start(&machine, headless, render.then_some(RENDER_HEADER))?;
+    let mut growing = outputs.start(&machine, headless, render)?;
     let (results, passes) = measure_passes(&config, &sized, &defaults, &mut growing, config_path)?;
     let scenario_path = config
         .scenario
@@ -76,14 +76,18 @@ pub fn bench(
         );
         let report = measure_render(run, scenario_path.as_deref())
             .map_err(|e| Failure::other(format!("{}: runs[{i}]: {e}", config_path.display())))?;
-        let row = render_row(i + 1, run, &report);
+
         eprintln!(
             "  {:.1} FPS, mean {:.2} ms, p95 {:.2} ms",
             1e3 / report.mean_ms.max(1e-9),
             report.mean_ms,
             report.p95_ms
         );
-        growing.add_render(&row)?;
+        growing.add_render(&RenderRow {
+            index: i + 1,
+            run: run.clone(),
+            report,
+        })?;
     }
     let empty_steps = if headless { measure_empty_steps()? } else { Vec::new() };
     let crossovers = crossovers(&passes, Wins::EveryPass);
@@ -94,7 +98,7 @@ pub fn bench(
 }
 
 /// The bare cost of a parallel step on 1 and 2 threads, as overhead rows.
-fn measure_empty_steps() -> Result<Vec<String>, Failure> {
+fn measure_empty_steps() -> Result<Vec<OverheadRow>, Failure> {
     EMPTY_STEP_THREADS
         .iter()
         .map(|&threads| {

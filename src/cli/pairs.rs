@@ -1,11 +1,12 @@
 //! `kessler pairs SCENARIO`: the overlapping pairs of the initial state.
 
-use std::io::{BufWriter, Write};
+use std::io::BufWriter;
 use std::path::Path;
 
 use super::headless::execution;
 use super::{ExecutionArgs, Failure};
 use crate::components::BodyId;
+use crate::output::write_csv;
 use crate::scenario::Scenario;
 use crate::systems::{Aabb, SortedBoxes, id_pairs, sweep_and_prune};
 
@@ -17,13 +18,12 @@ pub fn pairs(path: &Path, args: &ExecutionArgs) -> Result<(), Failure> {
     let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();
     let found = sweep_and_prune(boxes.as_slice(), &execution(args)?, &mut SortedBoxes::default())
         .map_err(|e| Failure::input(format!("{}: {e}", path.display())))?;
-    let mut out = BufWriter::new(std::io::stdout().lock());
-    let written = (|| {
-        writeln!(out, "a,b")?;
-        for (a, b) in id_pairs(&found, &ids) {
-            writeln!(out, "{},{}", a.0, b.0)?;
-        }
-        out.flush()
-    })();
-    written.map_err(|e| Failure::other(format!("writing the pairs: {e}")))
+    let rows: Vec<PairRow> = id_pairs(&found, &ids).into_iter().map(|(a, b)| PairRow(a, b)).collect();
+    write_csv(BufWriter::new(std::io::stdout().lock()), &rows)
+        .map_err(|e| Failure::other(format!("writing the pairs: {e}")))
 }
+
+/// One overlapping pair, lower id first.
+struct PairRow(BodyId, BodyId);
+
+crate::csv_row!(PairRow, |p| { a: p.0.0, b: p.1.0 });

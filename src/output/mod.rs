@@ -5,11 +5,13 @@
 mod appended;
 mod atomic;
 mod check;
+mod csv;
 mod message;
 mod png_image;
 
 pub use appended::*;
 pub use atomic::*;
 pub use check::*;
+pub use csv::{Cells, CsvRow, CsvTable, header, line, write_csv};
 pub use message::*;
 pub use png_image::*;
