@@ -14,13 +14,16 @@ mod render;
 mod report;
 mod run;
 
-pub use config::*;
-pub use crossover::*;
-pub use dispatch::*;
-pub use machine::*;
-pub use memory::*;
-pub use outputs::*;
-pub use plot::*;
-pub use render::*;
-pub use report::*;
-pub use run::*;
+pub use config::{BenchConfig, BenchRun, MAX_REPEAT, RenderRun, Run, Stages};
+pub use crossover::{Crossover, Wins, crossovers};
+pub use dispatch::empty_step_ns;
+pub use machine::{machine_report, this_cpu, utc_now};
+pub use memory::{peak_memory, reset_peak_memory};
+pub use outputs::{BenchOutputError, BenchOutputs, Finished, GrowingOutputs};
+pub use plot::{PLOT_SIZE, PlotError, png, svg};
+pub use render::{FrameReport, RenderRow, RenderRunError, WINDOW_WARMUP_FRAMES, child_args, measure_render};
+pub use report::{
+    CONTRACT_STAGE_COLUMNS, OverheadRow, PassRow, column_ns, columns_in_stage_order, empty_step_row, overhead_rows,
+    stage_columns, times_by_stage,
+};
+pub use run::{RunDefaults, RunError, RunResult, measure, median_pass};

@@ -5,5 +5,5 @@
 mod file;
 mod measure;
 
-pub use file::*;
-pub use measure::*;
+pub use file::{Calibration, auto_split_from, load_calibration, machine_auto_split};
+pub use measure::{LADDER, NOT_FOUND, PASSES, calibrate};

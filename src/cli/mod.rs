@@ -11,6 +11,6 @@ mod pairs;
 mod run;
 mod validate;
 
-pub use args::*;
+pub use args::{Cli, Command, ExecutionArgs, HeadlessArgs, ModeArg, OnOff, RenderArg, RunArgs};
 pub use entry::main;
-pub use failure::*;
+pub use failure::{EXIT_BAD_INPUT, EXIT_FAILURE, EXIT_SIMULATION_STOPPED, Failure};

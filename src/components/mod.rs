@@ -3,5 +3,5 @@
 mod body;
 mod body_state;
 
-pub use body::*;
-pub use body_state::*;
+pub use body::{BodyId, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity};
+pub use body_state::{BodyBundle, BodyComponents, BodyState, BodyStateQuery};

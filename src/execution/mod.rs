@@ -56,7 +56,7 @@ mod pool;
 mod split;
 
 pub use keep_warm::WARM_FOR;
-pub use mode::*;
-pub use policy::*;
-pub use pool::*;
-pub use split::*;
+pub use mode::ExecutionMode;
+pub use policy::{AutoSplit, BadSplitPolicy, FALLBACK_SPLIT_FROM, SplitPolicy};
+pub use pool::{Execution, ExecutionError, MAX_THREADS, StageExecution, available_threads};
+pub use split::Split;

@@ -9,9 +9,9 @@ mod csv;
 mod message;
 mod png_image;
 
-pub use appended::*;
-pub use atomic::*;
-pub use check::*;
+pub use appended::AppendedFile;
+pub use atomic::{WriteError, create_temporary, write_atomically};
+pub use check::{OutputError, OutputProblem, check_distinct, check_extension, check_new, check_replaceable};
 pub use csv::{Cells, CsvRow, CsvTable, header, line, write_csv};
-pub use message::*;
-pub use png_image::*;
+pub use message::printable;
+pub use png_image::write_png;

@@ -5,8 +5,8 @@ mod gravity_method;
 mod setting_value;
 mod settings;
 
-pub use body_ids::*;
-pub use gravity_method::*;
+pub use body_ids::NextBodyId;
+pub use gravity_method::{AUTO_TREE_FROM, BadGravityMethod, DEFAULT_THETA, GravityMethod, MAX_THETA};
 pub use setting_value::{SettingValue, problem, read_checked};
 pub use settings::{
     Applies, MAX_BODIES, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_LENGTH, MAX_TIME_STEP, SETTINGS, SettingInfo,

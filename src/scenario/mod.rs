@@ -11,8 +11,8 @@ mod scale;
 mod snapshot;
 mod start;
 
-pub use builtin::*;
+pub use builtin::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, THESIS_SCENARIO, THESIS_SCENARIO_NAME};
 pub use checked::{MAX_BODIES, MAX_FRAGMENTS};
-pub use format::*;
+pub use format::{Body, Cloud, Generator, Scenario, Shape, Shell, Template};
 pub use scale::NoGenerators;
-pub use snapshot::*;
+pub use snapshot::{Snapshot, write_snapshot};

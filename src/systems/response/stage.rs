@@ -161,10 +161,6 @@ fn apply_outcomes(
     responses
 }
 
-#[expect(
-    clippy::too_many_arguments,
-    reason = "a Bevy system's parameters are its data access"
-)]
 fn respond_to_pairs(
     settings: Res<SimulationSettings>,
     mut stage: Stage,
