@@ -1,4 +1,4 @@
-//! [`SortPlugin`]: the broad phase's first stage, reading the bodies' table
+//! [`SortPlugin`]: the sort stage of the broad phase, reading the bodies' table
 //! columns in place and writing [`SortedBoxes`].
 
 use bevy::prelude::*;

@@ -1,4 +1,4 @@
-//! [`SweepPlugin`]: the broad phase's second stage, sweeping the
+//! [`SweepPlugin`]: the sweep stage of the broad phase, sweeping the
 //! [`SortedBoxes`] and writing [`OverlappingPairs`].
 
 use bevy::prelude::*;

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, available_threads};
-use crate::resources::{GravityMethod, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check};
+use crate::resources::{Applies, GravityMethod, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check};
 
 /// Slowest and fastest target update rate, updates per second.
 pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
@@ -413,6 +413,22 @@ impl SandboxSettings {
     /// setting the panel holds (live or on restart) and its stage switches.
     pub fn physics_for_restart(&self, scenario: &SimulationSettings) -> SimulationSettings {
         self.physics_over(scenario)
+    }
+
+    /// The physics settings the panel holds that apply on restart and
+    /// differ between `self` and `built`, by their names in files.
+    pub fn restart_physics_changed(&self, built: &Self) -> Vec<&'static str> {
+        let mut changed = Vec::new();
+        macro_rules! compare {
+            ($($field:ident => $fix:expr,)*) => {$(
+                let row = SETTINGS.iter().find(|s| s.field == stringify!($field));
+                if self.$field != built.$field && row.is_some_and(|s| s.applies == Applies::OnRestart) {
+                    changed.extend(row.map(|s| s.key));
+                }
+            )*};
+        }
+        panel_physics!(compare);
+        changed
     }
 
     /// Takes a freshly loaded scenario's own values of the physics

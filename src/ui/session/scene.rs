@@ -62,9 +62,7 @@ impl SandboxState {
         if settings.body_count != built.body_count {
             pending.push("body count");
         }
-        if settings.seed != built.seed {
-            pending.push("seed");
-        }
+        pending.extend(settings.restart_physics_changed(built));
         if settings.scenario != built.scenario {
             pending.push("scenario");
         }
