@@ -1,6 +1,6 @@
 //! Every CSV Kessler writes goes through one row type per file: a
 //! [`CsvRow`] names its columns and writes its cells, both from one list
-//! ([`csv_row!`]), so a header and its rows cannot disagree. Cells are
+//! ([`csv_row!`](crate::csv_row!)), so a header and its rows cannot disagree. Cells are
 //! written with `Display` (floats in Rust's shortest round-trip form),
 //! which is why this is a small writer of our own rather than the `csv`
 //! crate: its floats are written otherwise, and the dump's bytes are a

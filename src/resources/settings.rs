@@ -1,4 +1,4 @@
-//! The physics settings, declared once: [`physics_settings!`] is the one
+//! The physics settings, declared once: `physics_settings!` is the one
 //! list that gives every setting its name in files, type, default, rule,
 //! doc line and whether the window applies it live or on restart. From it
 //! come [`SimulationSettings`], the scenario files' fields and their

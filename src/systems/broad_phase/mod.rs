@@ -1,17 +1,19 @@
-//! The sort and sweep stages, the broad phase: sweep and prune over a y–z grid — every
-//! pair of overlapping boxes (docs/design.md, "Broad phase").
+//! The broad phase's kernels, which the sort and sweep stages
+//! (`systems/sort.rs`, `systems/sweep.rs`) run: sweep and prune over a y–z
+//! grid — every pair of overlapping boxes (docs/design.md, "Broad phase").
 //!
 //! A single sweep along x degrades when many boxes share an x range (a dense
 //! cloud of a million cubes puts hundreds in every box's x range), so the
 //! sweep runs per cell of a grid over y and z:
 //!
-//! 1. **Sort** (`sort.rs`, `filing.rs`, `ordering.rs`; stage
-//!    [`SortPlugin`]): the boxes are filed under every cell their y–z extent
+//! 1. **Sort** (`sorted_boxes.rs`, `filing.rs`, `ordering.rs`; stage
+//!    [`SortPlugin`](crate::systems::SortPlugin)): the boxes are filed under every cell their y–z extent
 //!    covers by a counting sort that reads the bodies' columns in order,
 //!    twice (count, then place), and never gathers at random; then each
 //!    cell's boxes are ordered by their lower x bound (ties by input order,
 //!    so the order is one fixed permutation), kept as 4-byte positions.
-//! 2. **Sweep** (`sweep.rs`; stage [`SweepPlugin`]): in each cell, each box
+//! 2. **Sweep** (`sweep_pairs.rs`; stage
+//!    [`SweepPlugin`](crate::systems::SweepPlugin)): in each cell, each box
 //!    scans forward while the next box starts before it ends on x,
 //!    and confirms y and z. Touching counts as overlap. A pair found in
 //!    several cells is reported only by the cell holding the lower corner of
@@ -30,10 +32,12 @@ mod boxes;
 mod filing;
 mod grid;
 mod ordering;
-mod sort;
-mod sweep;
+mod sorted_boxes;
+mod sweep_pairs;
 
 pub use aabb::Aabb;
 pub use boxes::{BodyColumns, BoxSource, BroadPhaseQuery, TableColumns};
-pub use sort::{SortedBoxes, sort_boxes};
-pub use sweep::{MIN_PAIR_LIMIT, PAIRS_PER_BOX, TooManyPairs, id_pairs, pair_limit, sweep_and_prune, sweep_sorted};
+pub use sorted_boxes::{SortedBoxes, sort_boxes};
+pub use sweep_pairs::{
+    MIN_PAIR_LIMIT, PAIRS_PER_BOX, TooManyPairs, id_pairs, pair_limit, sweep_and_prune, sweep_sorted,
+};

@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use super::BoxSource;
 use super::grid::Grid;
 use super::ordering::gather_cell;
-use super::sort::{SortedBoxes, sort_boxes};
+use super::sorted_boxes::{SortedBoxes, sort_boxes};
 use crate::components::BodyId;
 use crate::execution::{Execution, StageExecution};
 use crate::systems::SimulationSystems;
