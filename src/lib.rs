@@ -11,6 +11,7 @@ pub mod draw_method;
 pub mod dump;
 pub mod execution;
 pub mod input;
+pub mod memory_limit;
 pub mod output;
 pub mod resources;
 pub mod rng;

@@ -48,6 +48,7 @@ pub fn bench(
         scenario.physics.gravity_method = gravity;
     }
     let sized = config.size_runs(&scenario, config_path)?;
+    super::headless::warn_of_memory(&scenario);
     let defaults = RunDefaults {
         split,
         auto: machine_auto_split(),

@@ -11,6 +11,7 @@ use crate::calibration::machine_auto_split;
 use crate::dump;
 use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
 use crate::output::{check_distinct, check_replaceable, printable, write_atomically};
+use crate::resources::MemoryBudget;
 use crate::scenario::{Scenario, Snapshot, write_snapshot};
 use crate::systems::SimulationSystems;
 use crate::timeline::Timeline;
@@ -23,12 +24,25 @@ pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
     Ok(execution.with_split(args.split).with_auto_split(machine_auto_split()))
 }
 
+/// Says on stderr where the scenario's `max_bodies` would not fit in the
+/// memory this process may use.
+pub fn warn_of_memory(scenario: &Scenario) {
+    if let Some(warning) = MemoryBudget::default().warning(scenario.physics.max_bodies) {
+        eprintln!(
+            "kessler: warning: {}: {}",
+            printable(&scenario.origin),
+            printable(&warning)
+        );
+    }
+}
+
 /// Runs the command.
 pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
     let mut scenario = Scenario::load(&args.scenario)?;
     if let Some(gravity) = args.gravity {
         scenario.physics.gravity_method = gravity;
     }
+    warn_of_memory(&scenario);
     let named: Vec<(&str, &Path)> = [
         ("--dump", &args.dump),
         ("--save-scenario", &args.save_scenario),

@@ -2,11 +2,13 @@
 
 mod body_ids;
 mod gravity_method;
+mod memory_budget;
 mod setting_value;
 mod settings;
 
 pub use body_ids::NextBodyId;
 pub use gravity_method::{AUTO_TREE_FROM, BadGravityMethod, DEFAULT_THETA, GravityMethod, MAX_THETA};
+pub use memory_budget::{MemoryBudget, gigabytes};
 pub use setting_value::{SettingValue, problem, read_checked};
 pub use settings::{
     Applies, MAX_BODIES, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_LENGTH, MAX_TIME_STEP, SETTINGS, SettingInfo,

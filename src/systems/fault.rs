@@ -10,6 +10,8 @@ use bevy::prelude::*;
 
 use super::TooManyPairs;
 use crate::components::{BodyId, Position, Velocity};
+use crate::memory_limit::{BYTES_PER_BODY, MemoryLimit};
+use crate::resources::gigabytes;
 
 /// What stopped the run.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
@@ -31,6 +33,18 @@ pub enum Fault {
     /// The sweep found more pairs than it may hold.
     #[error("{0}")]
     PileUp(TooManyPairs),
+    /// The bodies would outgrow the memory the run may use.
+    #[error(
+        "the shatters of this update would make {bodies} bodies, more than the {} left under {} \
+         holds at {} bytes a body (at most {}); lower max_bodies, or give the run more memory",
+        gigabytes(limit.free_bytes), limit.kind, BYTES_PER_BODY, limit.bodies()
+    )]
+    OutOfMemory {
+        /// The bodies there would be.
+        bodies: u64,
+        /// The limit.
+        limit: MemoryLimit,
+    },
 }
 
 /// The run's fault, if any, and the update it happened in.

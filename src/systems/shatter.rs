@@ -14,9 +14,9 @@ use bevy::math::{DQuat, DVec3};
 use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, GravityRole};
-use crate::resources::{NextBodyId, SimulationSettings};
+use crate::resources::{MemoryBudget, NextBodyId, SimulationSettings};
 use crate::rng::Rng;
-use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
+use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
 
 /// Two bodies to shatter, in pair order, for the shatter stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -40,6 +40,7 @@ pub struct ShatterPlugin;
 impl Plugin for ShatterPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<PendingShatters>()
+            .init_resource::<MemoryBudget>()
             .add_systems(SimulationUpdate, shatter.in_set(SimulationSystems::Shatter));
     }
 }
@@ -132,15 +133,32 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u6
         .collect()
 }
 
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a Bevy system's parameters are its data access"
+)]
 fn shatter(
     settings: Res<SimulationSettings>,
     mut stage: Stage,
     mut pending: ResMut<PendingShatters>,
     mut next_id: ResMut<NextBodyId>,
+    budget: Res<MemoryBudget>,
+    bodies: Query<(), With<BodyId>>,
+    mut fault: ResMut<SimulationFault>,
     mut commands: Commands,
 ) {
     let clock = stage.start(SimulationSystems::Shatter);
     let count = settings.shatter_fragments;
+    let shatters = pending.0.len() as u64;
+    let after = (bodies.iter().len() as u64 - 2 * shatters).saturating_add(shatters * u64::from(count));
+    if let Some(limit) = budget.limit
+        && after > limit.bodies()
+    {
+        // Stopped before the allocation that would fail.
+        pending.0.clear();
+        fault.stop(Fault::OutOfMemory { bodies: after, limit });
+        return;
+    }
     for pair in pending.0.drain(..) {
         for entity in pair.entities {
             commands.entity(entity).despawn();
