@@ -181,11 +181,6 @@ macro_rules! derive_settings {
                 })*
             }
 
-            /// Takes `from`'s value of every setting.
-            pub fn take_physics(&mut self, from: &Self) {
-                $(self.$field = from.$field;)*
-            }
-
             /// The value of the setting named `key`, as a file writes it.
             pub fn shown(&self, key: &str) -> Option<String> {
                 match key {
