@@ -5,7 +5,7 @@ mod gravity_method;
 mod setting_value;
 mod settings;
 
-pub use body_ids::NextBodyId;
+pub use body_ids::{MAX_ID, NextBodyId};
 pub use gravity_method::{AUTO_TREE_FROM, BadGravityMethod, DEFAULT_THETA, GravityMethod, MAX_THETA};
 pub use setting_value::{SettingValue, problem, read_checked};
 pub use settings::{
