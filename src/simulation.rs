@@ -203,4 +203,191 @@ mod tests {
             );
         }
     }
+
+    /// Runs `text` (a scenario) `updates` updates sequentially: the end
+    /// state, the shatters refused and the next id.
+    fn run(text: &str, updates: u64) -> (Vec<BodyState>, u64, u64) {
+        let scenario = Scenario::parse(text, "t").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
+        let mut sim = Simulation::from_scenario(&scenario, execution).unwrap();
+        sim.step(updates);
+        assert_eq!(sim.check_state(), None, "{text}");
+        (sim.snapshot(), sim.collision_stats().refused_total, sim.next_body_id())
+    }
+
+    /// Every bit of the end state, body by body.
+    fn bits(bodies: &[BodyState]) -> Vec<(u64, [[u32; 3]; 3], u32)> {
+        bodies
+            .iter()
+            .map(|b| {
+                let v = [b.position, b.velocity, b.half_extents].map(|v| v.to_array().map(f32::to_bits));
+                (b.id.0, v, b.mass.to_bits())
+            })
+            .collect()
+    }
+
+    /// Sources in a cloud, pulling one another (no collisions: none
+    /// interacts); more than one of them, so that a tree groups them.
+    const PULLING: &str = "generators: [Cloud(count: 40, center: (0, 0, 0), half_size: (60, 60, 60), \
+                           max_speed: 0.5, body: (role: SourceAndAdopter, interacts: false))]";
+    /// Two unit cubes meeting head-on at 4 (past the default threshold, 3)
+    /// in the first update; no sources, so no gravity.
+    const MEETING: &str = "bodies: [Body(position: (-1.5, 0, 0), velocity: (2, 0, 0)), \
+                           Body(position: (1.5, 0, 0), velocity: (-2, 0, 0.1))]";
+
+    /// One row a physics setting: a value away from its default, the scene
+    /// in which it shows, and what it changes there.
+    struct Effect {
+        key: &'static str,
+        changed: &'static str,
+        scene: &'static str,
+        /// What the change does, as the two end states (default, changed)
+        /// show it.
+        what: &'static str,
+        shows: fn(&[BodyState], &[BodyState]) -> bool,
+    }
+
+    fn moved(default: &[BodyState], changed: &[BodyState]) -> bool {
+        bits(default) != bits(changed)
+    }
+
+    fn counted(default: &[BodyState], changed: &[BodyState]) -> bool {
+        default.len() != changed.len()
+    }
+
+    /// The table: every setting of the list, in its order. Each changes the
+    /// state of a few updates of a small scene; none is a field that does
+    /// nothing.
+    const EFFECTS: &[Effect] = &[
+        Effect {
+            key: "gravitational_constant",
+            changed: "1.0",
+            scene: PULLING,
+            what: "the pulls",
+            shows: moved,
+        },
+        Effect {
+            key: "time_step",
+            changed: "0.5",
+            scene: PULLING,
+            what: "how far each update moves",
+            shows: moved,
+        },
+        Effect {
+            key: "softening",
+            changed: "10.0",
+            scene: PULLING,
+            what: "the pulls of near sources",
+            shows: moved,
+        },
+        Effect {
+            key: "gravity",
+            changed: "Tree(theta: 2.0)",
+            scene: PULLING,
+            what: "the pulls, summed through the tree",
+            shows: moved,
+        },
+        Effect {
+            key: "shatter_threshold",
+            changed: "100.0",
+            scene: MEETING,
+            what: "a bounce instead of a shatter",
+            shows: counted,
+        },
+        Effect {
+            key: "shatter_fragments",
+            changed: "8",
+            scene: MEETING,
+            what: "the fragments a shatter makes",
+            shows: counted,
+        },
+        Effect {
+            key: "fragment_spread",
+            changed: "1.0",
+            scene: MEETING,
+            what: "the fragments' speeds",
+            shows: moved,
+        },
+        Effect {
+            key: "min_fragment_size",
+            changed: "1.5",
+            scene: MEETING,
+            what: "a bounce: fragments of 1.47 are below the floor",
+            shows: counted,
+        },
+        Effect {
+            key: "max_bodies",
+            changed: "4",
+            scene: MEETING,
+            what: "a bounce: 5 fragments are past the budget",
+            shows: counted,
+        },
+        Effect {
+            key: "seed",
+            changed: "2",
+            scene: MEETING,
+            what: "the fragments' spread",
+            shows: moved,
+        },
+    ];
+
+    /// Every physics setting changes what it should: a scene run with its
+    /// default and with another value ends in different states. A setting
+    /// added to the list without a row here fails this test.
+    #[test]
+    fn every_physics_setting_changes_the_run() {
+        let keys: Vec<&str> = EFFECTS.iter().map(|e| e.key).collect();
+        let listed: Vec<&str> = crate::resources::SETTINGS.iter().map(|s| s.key).collect();
+        assert_eq!(keys, listed, "one row a setting of the list, in its order");
+        for effect in EFFECTS {
+            let default = format!("Scenario({})", effect.scene);
+            let changed = format!("Scenario({}: {}, {})", effect.key, effect.changed, effect.scene);
+            // The file sets this setting and no other.
+            let settings = Scenario::parse(&changed, "t").unwrap().settings();
+            for s in crate::resources::SETTINGS {
+                let differs = settings.shown(s.key) != SimulationSettings::DEFAULT.shown(s.key);
+                assert_eq!(differs, s.key == effect.key, "{}: sets {}", effect.key, s.key);
+            }
+            let (default, _, _) = run(&default, 3);
+            let (changed, _, _) = run(&changed, 3);
+            assert!(
+                (effect.shows)(&default, &changed),
+                "{} changes nothing it should ({}): {} bodies, then {}",
+                effect.key,
+                effect.what,
+                default.len(),
+                changed.len()
+            );
+        }
+    }
+
+    /// `previous_position`, which older snapshots wrote, still loads and
+    /// changes nothing: the first update's drift sets it before anything
+    /// reads it.
+    #[test]
+    fn a_previous_position_is_accepted_and_ignored() {
+        let (plain, _, _) = run(&format!("Scenario({MEETING})"), 3);
+        let given = MEETING.replace("velocity: (2", "previous_position: (-1e30, 7, 0), velocity: (2");
+        assert_ne!(given, MEETING);
+        let (given, _, _) = run(&format!("Scenario({given})"), 3);
+        assert_eq!(bits(&plain), bits(&given));
+    }
+
+    /// A shatter whose fragments' ids would take the next id past
+    /// `MAX_ID` bounces instead, counted as refused; one that just fits
+    /// shatters, and the next id ends at `MAX_ID`.
+    #[test]
+    fn no_shatter_hands_out_an_id_past_the_bound() {
+        use crate::resources::MAX_ID;
+        for (room, bodies, refused, next) in [(5, 5, 0, MAX_ID), (4, 2, 1, MAX_ID - 4)] {
+            let text = format!("Scenario(next_id: {}, {MEETING})", MAX_ID - room);
+            let (state, refused_total, next_id) = run(&text, 3);
+            assert_eq!(
+                (state.len(), refused_total, next_id),
+                (bodies, refused, next),
+                "{room} ids of room"
+            );
+            assert!(state.iter().all(|b| b.id.0 < MAX_ID));
+        }
+    }
 }

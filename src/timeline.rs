@@ -18,7 +18,7 @@ pub struct TimelineRow {
     pub pairs: u64,
     /// Shatters since the previous row.
     pub shatters: u64,
-    /// Shatters refused (size floor, body budget) since the previous row.
+    /// Shatters refused (size floor, body budget, ids) since the previous row.
     pub refused_shatters: u64,
     /// Bodies, mass, kinetic energy and momentum now.
     pub totals: Totals,

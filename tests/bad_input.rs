@@ -435,3 +435,73 @@ fn a_run_that_overflows_stops_naming_the_update_and_the_body() {
         ],
     );
 }
+
+/// A run whose outputs cannot all be written writes none of them. A body
+/// at 1e30 moving at 1e30 is still finite after one update (2e30), but
+/// beyond what a scenario holds: the snapshot cannot be written, so the
+/// dump and the timeline, which could be, are not either. The state out of
+/// range stops the run (exit 3), and every target keeps its old bytes.
+#[test]
+fn a_run_whose_snapshot_cannot_be_written_writes_none_of_its_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("far.ron");
+    std::fs::write(
+        &scenario,
+        "Scenario(bodies: [Body(position: (1e30, 0, 0), velocity: (1e30, 0, 0))])",
+    )
+    .unwrap();
+    let out = kessler().arg("validate").arg(&scenario).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "valid at the start: {out:?}");
+    let targets = ["state.csv", "timeline.csv", "snapshot.ron"].map(|name| dir.path().join(name));
+    for target in &targets {
+        std::fs::write(target, "precious").unwrap();
+    }
+    let [dump, timeline, snapshot] = &targets;
+    for mode in ["sequential", "parallel"] {
+        let out = kessler()
+            .args(["headless", "--steps", "1", "--mode", mode, "--dump"])
+            .arg(dump)
+            .arg("--timeline")
+            .arg(timeline)
+            .arg("--save-scenario")
+            .arg(snapshot)
+            .arg(&scenario)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(3), "{mode}: {out:?}");
+        assert_one_clear_line(
+            &out.stderr,
+            &[
+                "far.ron: after 1 updates, body 0 is beyond ±1e30",
+                "--save-scenario",
+                "no output was written",
+            ],
+        );
+        for target in &targets {
+            assert_eq!(
+                std::fs::read(target).unwrap(),
+                b"precious",
+                "{mode}: {}",
+                target.display()
+            );
+        }
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            4,
+            "{mode}: a temporary file was left behind"
+        );
+    }
+    // Without the snapshot, the same run writes both the others.
+    let out = kessler()
+        .args(["headless", "--steps", "1", "--dump"])
+        .arg(dump)
+        .arg("--timeline")
+        .arg(timeline)
+        .arg(&scenario)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(std::fs::read_to_string(dump).unwrap().starts_with("id,x,y,z,"));
+    assert!(std::fs::read_to_string(timeline).unwrap().starts_with("update,"));
+    assert_eq!(std::fs::read(snapshot).unwrap(), b"precious");
+}

@@ -172,3 +172,66 @@ fn calibrate_stores_what_split_auto_then_uses() {
         "{warning}"
     );
 }
+
+/// What Kessler writes, Kessler reads: near the bound on ids (2^62) too.
+/// The highest id a file may give, generated bodies that end just below
+/// the bound, a next id with just room for one shatter's fragments, and one
+/// without (the shatter bounces instead): each run's snapshot validates,
+/// and so does the snapshot of a run continued from it.
+#[test]
+fn every_snapshot_near_the_bound_on_ids_loads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let bound: u64 = 1 << 62;
+    let meeting =
+        "Body(position: (-1.5, 0, 0), velocity: (2, 0, 0)), Body(position: (1.5, 0, 0), velocity: (-2, 0, 0.1))";
+    let cases = [
+        (
+            format!("Scenario(bodies: [Body(id: {}, position: (0, 0, 0))])", bound - 1),
+            "0",
+            format!("next_id: {bound}"),
+        ),
+        (
+            format!(
+                "Scenario(bodies: [Body(id: {}, position: (0, 0, 0), mass: 10, role: Source, interacts: false)], \
+                 generators: [Shell(count: 3, around: 0, inner_radius: 50, outer_radius: 60)])",
+                bound - 4
+            ),
+            "2",
+            format!("next_id: {bound}"),
+        ),
+        (
+            format!("Scenario(next_id: {}, bodies: [{meeting}])", bound - 5),
+            "3",
+            "(5 at the end, 1 shatters, 0 refused)".to_owned(),
+        ),
+        (
+            format!("Scenario(next_id: {}, bodies: [{meeting}])", bound - 4),
+            "3",
+            "(2 at the end, 0 shatters, 1 refused)".to_owned(),
+        ),
+    ];
+    for (i, (text, steps, needle)) in cases.iter().enumerate() {
+        let mut from = dir.path().join(format!("{i}.ron"));
+        std::fs::write(&from, text).unwrap();
+        for generation in 0..2 {
+            let snapshot = dir.path().join(format!("{i}-{generation}.snapshot.ron"));
+            let out = kessler()
+                .args(["headless", "--steps", steps, "--save-scenario"])
+                .arg(&snapshot)
+                .arg(&from)
+                .output()
+                .unwrap();
+            assert!(out.status.success(), "{text}: {}", String::from_utf8_lossy(&out.stderr));
+            let written = std::fs::read_to_string(&snapshot).unwrap();
+            let said = format!("{}{written}", String::from_utf8_lossy(&out.stdout));
+            assert!(generation == 1 || said.contains(needle.as_str()), "{text}: {said}");
+            let out = kessler().arg("validate").arg(&snapshot).output().unwrap();
+            assert!(
+                out.status.success(),
+                "{text}: its snapshot does not load: {}\n{written}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            from = snapshot;
+        }
+    }
+}

@@ -7,7 +7,7 @@ use crate::bench::{BenchOutputError, RunError};
 use crate::execution::ExecutionError;
 use crate::input::InputError;
 use crate::output::{OutputError, WriteError};
-use crate::scenario::NoGenerators;
+use crate::scenario::CannotResize;
 
 /// Exit code for bad input (arguments, scenario files, output paths).
 pub const EXIT_BAD_INPUT: u8 = 2;
@@ -77,7 +77,7 @@ macro_rules! failure_from {
     )*};
 }
 
-failure_from!(EXIT_BAD_INPUT => InputError, OutputError, NoGenerators, ExecutionError);
+failure_from!(EXIT_BAD_INPUT => InputError, OutputError, CannotResize, ExecutionError);
 failure_from!(EXIT_FAILURE => WriteError, BenchOutputError);
 
 impl From<RunError> for Failure {

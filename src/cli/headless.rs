@@ -10,9 +10,9 @@ use crate::Simulation;
 use crate::calibration::machine_auto_split;
 use crate::dump;
 use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
-use crate::output::{check_distinct, check_replaceable, printable, write_atomically};
+use crate::output::{WriteError, check_distinct, check_replaceable, commit_all, printable, stage};
 use crate::resources::MemoryBudget;
-use crate::scenario::{Scenario, Snapshot, write_snapshot};
+use crate::scenario::{Scenario, Snapshot, beyond_a_scenario, write_snapshot};
 use crate::systems::SimulationSystems;
 use crate::timeline::Timeline;
 
@@ -75,8 +75,8 @@ pub struct Outputs<'a> {
 }
 
 /// Runs `updates` updates of `scenario` with a progress bar on a terminal,
-/// prints a one-line summary, and writes the dump and the snapshot if
-/// asked.
+/// prints a one-line summary, and writes the dump, the timeline and the
+/// snapshot if asked: all of them, or none.
 pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs: Outputs<'_>) -> Result<(), Failure> {
     let dump_path = outputs.dump;
     let (mode, threads) = (execution.mode(), execution.threads_used());
@@ -112,11 +112,26 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
     } else {
         Vec::new()
     };
+    // A state a scenario cannot hold stops the run like a fault, before any
+    // output is touched.
+    if outputs.scenario.is_some()
+        && let Some(problem) = beyond_a_scenario(&bodies)
+    {
+        return Err(Failure::stopped(format!(
+            "{}: after {updates} updates, {problem} (--save-scenario); the simulation stopped and no output was written",
+            scenario.origin
+        )));
+    }
+    // Every output is written in full beside its target first, and only
+    // when all are written are they put in place: a run whose outputs
+    // cannot all be written writes none of them.
+    let failed = |flag: &str, e: WriteError| Failure::other(format!("{flag} {e}; no output was written"));
+    let mut staged = Vec::new();
     if let Some(path) = dump_path {
-        write_atomically(path, |w| dump::write_csv(&bodies, w)).map_err(|e| Failure::other(format!("--dump {e}")))?;
+        staged.push(stage(path, |w| dump::write_csv(&bodies, w)).map_err(|e| failed("--dump", e))?);
     }
     if let (Some((path, _)), Some(timeline)) = (outputs.timeline, &timeline) {
-        write_atomically(path, |w| timeline.write_csv(w)).map_err(|e| Failure::other(format!("--timeline {e}")))?;
+        staged.push(stage(path, |w| timeline.write_csv(w)).map_err(|e| failed("--timeline", e))?);
     }
     if let Some(path) = outputs.scenario {
         let snapshot = Snapshot {
@@ -126,9 +141,9 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
             bodies: &bodies,
             next_id: sim.next_body_id(),
         };
-        write_atomically(path, |w| write_snapshot(&snapshot, w))
-            .map_err(|e| Failure::other(format!("--save-scenario {e}")))?;
+        staged.push(stage(path, |w| write_snapshot(&snapshot, w)).map_err(|e| failed("--save-scenario", e))?);
     }
+    commit_all(staged).map_err(|e| Failure::other(format!("{e} (putting the outputs in place)")))?;
     let per_update_ms = if updates == 0 {
         0.0
     } else {

@@ -1,6 +1,7 @@
 //! Atomic file writes: a temporary file beside the target, synced to disk,
 //! then renamed over it — the target is always either the old file or the
-//! whole new one.
+//! whole new one. A command with several outputs stages them all first and
+//! renames them only once every one is written ([`Staged`]).
 //!
 //! Written here rather than with `tempfile::NamedTempFile::persist`: that
 //! creates its files with mode 0600, so every dump and result would end up
@@ -56,25 +57,81 @@ pub fn create_temporary(path: &Path) -> io::Result<(PathBuf, std::fs::File)> {
     }
 }
 
-/// Writes to `path` through `write`, into a new temporary file in the same
-/// folder that is synced and then renamed, so that `path` is either the old
-/// file or the whole new one. The temporary file is removed on failure.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<(), WriteError> {
+/// A file written in full into a temporary file beside its target and
+/// synced, not yet in place: [`Staged::commit`] renames it over the target;
+/// dropped uncommitted, it is removed and the target is left as it was.
+/// Staging every output of a command first and committing them only when
+/// all are written ([`commit_all`]) means a command whose outputs cannot
+/// all be written writes none of them.
+#[derive(Debug)]
+#[must_use = "a staged file is removed unless it is committed"]
+pub struct Staged {
+    /// The temporary file, while it is there.
+    tmp: Option<PathBuf>,
+    /// The target.
+    path: PathBuf,
+}
+
+/// Writes `path`'s new contents through `write` into a new temporary file
+/// in the same folder, synced: the target is not touched yet. The
+/// temporary file is removed on failure.
+pub fn stage(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<Staged, WriteError> {
     let failed = |source| WriteError {
         path: path.to_owned(),
         source,
     };
     let (tmp, file) = create_temporary(path).map_err(failed)?;
+    // From here on, dropping `staged` removes the temporary file.
+    let staged = Staged {
+        tmp: Some(tmp),
+        path: path.to_owned(),
+    };
     let result = (|| {
         let mut out = BufWriter::new(file);
         write(&mut out)?;
-        out.into_inner().map_err(io::IntoInnerError::into_error)?.sync_all()?;
-        std::fs::rename(&tmp, path)
+        out.into_inner().map_err(io::IntoInnerError::into_error)?.sync_all()
     })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    result.map(|()| staged).map_err(failed)
+}
+
+impl Staged {
+    /// Puts the file in place: the target is now the whole new file (or,
+    /// if the rename fails, still the old one).
+    pub fn commit(mut self) -> Result<(), WriteError> {
+        let Some(tmp) = self.tmp.take() else {
+            return Ok(());
+        };
+        std::fs::rename(&tmp, &self.path).map_err(|source| {
+            let _ = std::fs::remove_file(&tmp);
+            WriteError {
+                path: self.path.clone(),
+                source,
+            }
+        })
     }
-    result.map_err(failed)
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        if let Some(tmp) = self.tmp.take() {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+}
+
+/// Puts every staged file in place, in order. Only the renames are left
+/// by then, which fail only if the file system changes under the command
+/// (the folders were checked writable before any work); should one fail,
+/// the files after it are removed and their targets left as they were.
+pub fn commit_all(staged: Vec<Staged>) -> Result<(), WriteError> {
+    staged.into_iter().try_for_each(Staged::commit)
+}
+
+/// Writes to `path` through `write`, into a new temporary file in the same
+/// folder that is synced and then renamed, so that `path` is either the old
+/// file or the whole new one. The temporary file is removed on failure.
+pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<(), WriteError> {
+    stage(path, write)?.commit()
 }
 
 #[cfg(test)]
@@ -96,6 +153,49 @@ mod tests {
             1,
             "temporary file left behind"
         );
+    }
+
+    #[test]
+    fn staged_files_are_put_in_place_together_or_not_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let [one, two, three] = ["one.csv", "two.csv", "three.ron"].map(|name| dir.path().join(name));
+        for path in [&one, &two, &three] {
+            std::fs::write(path, "precious").unwrap();
+        }
+        // The third fails: the first two, already staged, are dropped.
+        let staged: Result<Vec<Staged>, WriteError> = [&one, &two, &three]
+            .into_iter()
+            .enumerate()
+            .map(|(i, path)| {
+                stage(path, |w| {
+                    if i == 2 {
+                        Err(io::Error::other("boom"))
+                    } else {
+                        w.write_all(b"new")
+                    }
+                })
+            })
+            .collect();
+        assert!(staged.unwrap_err().to_string().ends_with("three.ron: boom"));
+        for path in [&one, &two, &three] {
+            assert_eq!(std::fs::read_to_string(path).unwrap(), "precious");
+        }
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            3,
+            "temporary files left behind"
+        );
+        // All three written: nothing is in place before the commit.
+        let staged: Vec<Staged> = [&one, &two, &three]
+            .into_iter()
+            .map(|path| stage(path, |w| w.write_all(b"new")).unwrap())
+            .collect();
+        assert_eq!(std::fs::read_to_string(&one).unwrap(), "precious");
+        commit_all(staged).unwrap();
+        for path in [&one, &two, &three] {
+            assert_eq!(std::fs::read_to_string(path).unwrap(), "new");
+        }
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 3);
     }
 
     #[test]

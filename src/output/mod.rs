@@ -10,7 +10,7 @@ mod message;
 mod png_image;
 
 pub use appended::AppendedFile;
-pub use atomic::{WriteError, create_temporary, write_atomically};
+pub use atomic::{Staged, WriteError, commit_all, create_temporary, stage, write_atomically};
 pub use check::{OutputError, OutputProblem, check_distinct, check_extension, check_new, check_replaceable};
 pub use csv::{Cells, CsvRow, CsvTable, header, line, write_csv};
 pub use message::printable;

@@ -6,7 +6,7 @@ mod memory_budget;
 mod setting_value;
 mod settings;
 
-pub use body_ids::NextBodyId;
+pub use body_ids::{MAX_ID, NextBodyId};
 pub use gravity_method::{AUTO_TREE_FROM, BadGravityMethod, DEFAULT_THETA, GravityMethod, MAX_THETA};
 pub use memory_budget::{MemoryBudget, gigabytes};
 pub use setting_value::{SettingValue, problem, read_checked};

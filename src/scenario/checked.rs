@@ -7,7 +7,7 @@
 use serde::de::{Deserializer, Error};
 
 use crate::input::{body_count, f32_where, vec3_where, whole_between};
-pub use crate::resources::{MAX_BODIES, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_LENGTH, MAX_TIME_STEP};
+pub use crate::resources::{MAX_BODIES, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_ID, MAX_LENGTH, MAX_TIME_STEP};
 
 macro_rules! checked_f32 {
     ($($name:ident: $rule:literal, |$v:ident| $ok:expr;)*) => {$(
@@ -99,14 +99,10 @@ pub fn name<'de, D: Deserializer<'de>>(d: D) -> Result<String, D::Error> {
     }
 }
 
-/// Largest body id and `next_id`: 2^62, so that the ids of every body a
-/// run can make after it (fragments, one id each) stay far below `u64`'s
-/// limit and never wrap.
-pub const MAX_ID: u64 = 1 << 62;
-
-/// A body's `id` where given: at most [`MAX_ID`].
+/// A body's `id` where given: below [`MAX_ID`] (the next id, which a
+/// snapshot writes, is above every id and at most [`MAX_ID`]).
 pub fn id<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
-    whole_between(d, "id", 0, MAX_ID).map(Some)
+    whole_between(d, "id", 0, MAX_ID - 1).map(Some)
 }
 
 /// `next_id` where given: at most [`MAX_ID`].

@@ -59,7 +59,10 @@ pub struct Body {
     /// Center of the box; required.
     #[serde(deserialize_with = "checked::position")]
     pub position: [f32; 3],
-    /// Where the body was an update ago (snapshots); default: `position`.
+    /// Ignored, kept so that older files load: snapshots once wrote where
+    /// the body was an update ago, but every update's drift sets that
+    /// before anything reads it. Still checked (finite, at most 1e30), and
+    /// never written.
     #[serde(
         default,
         deserialize_with = "checked::previous_position",

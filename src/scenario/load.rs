@@ -6,7 +6,7 @@ use std::path::Path;
 use bevy::math::Vec3;
 use ron::extensions::Extensions;
 
-use super::checked::MAX_BODIES;
+use super::checked::{MAX_BODIES, MAX_ID};
 use super::format::{Generator, Scenario, Shape, Shell};
 use super::generators;
 use super::start::check_start;
@@ -104,7 +104,30 @@ impl Scenario {
                 self.first_generated_id()
             ));
         }
+        if let Some(problem) = self.generated_ids_problem() {
+            return error(format!("field `generators`: {problem}"));
+        }
         Ok(())
+    }
+
+    /// Where generated bodies would be numbered past the bound on ids (the
+    /// last of them below [`MAX_ID`], the next id after them at most it):
+    /// what is wrong, else `None`.
+    pub(super) fn generated_ids_problem(&self) -> Option<String> {
+        let first = self.first_generated_id();
+        let generated = self
+            .generators
+            .iter()
+            .map(Generator::count)
+            .fold(0, u64::saturating_add);
+        (first.saturating_add(generated) > MAX_ID).then(|| {
+            format!(
+                "the {generated} generated bodies would be numbered from {first} to {}, past the largest id, {} \
+                 (2^62 - 1)",
+                first.saturating_add(generated - 1),
+                MAX_ID - 1
+            )
+        })
     }
 
     /// The id of the first generated body: one past the highest explicit id.
@@ -172,9 +195,10 @@ impl Scenario {
     pub fn bodies(&self) -> Result<Vec<BodyState>, InputError> {
         let mut out = Vec::with_capacity(usize::try_from(self.body_count()).unwrap_or(0));
         out.extend(self.bodies.iter().enumerate().map(|(i, b)| {
+            // `previous_position` is ignored (the first drift sets it).
             let position = Vec3::from_array(b.position);
             BodyState {
-                previous: b.previous_position.map_or(position, Vec3::from_array),
+                previous: position,
                 spherical: matches!(b.shape, Shape::Sphere { .. }),
                 ..BodyState::new_box(
                     BodyId(b.id.unwrap_or(i as u64)),
@@ -266,7 +290,10 @@ mod tests {
         assert!(bodies[0].spherical && !bodies[1].spherical);
         assert_eq!(bodies[0].half_extents, Vec3::splat(430.0), "the ball's bounding box");
         assert_eq!(bodies[0].previous, bodies[0].position, "default: where it is");
-        assert_eq!(bodies[1].previous, Vec3::new(899.0, 0.0, 0.0));
+        assert_eq!(
+            bodies[1].previous, bodies[1].position,
+            "`previous_position` is accepted and ignored: the first drift sets it"
+        );
         for (body, problem) in [
             ("Body(position: (0, 0, 0), shape: Sphere(radius: 4))", "non-interacting"),
             (

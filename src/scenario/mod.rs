@@ -14,5 +14,5 @@ mod start;
 pub use builtin::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, THESIS_SCENARIO, THESIS_SCENARIO_NAME};
 pub use checked::{MAX_BODIES, MAX_FRAGMENTS};
 pub use format::{Body, Cloud, Generator, Scenario, Shape, Shell, Template};
-pub use scale::NoGenerators;
-pub use snapshot::{Snapshot, write_snapshot};
+pub use scale::CannotResize;
+pub use snapshot::{Snapshot, beyond_a_scenario, write_snapshot};

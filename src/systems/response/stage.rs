@@ -15,7 +15,7 @@ use super::contact::{Outcome, respond};
 use crate::components::{
     BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
 };
-use crate::resources::SimulationSettings;
+use crate::resources::{NextBodyId, SimulationSettings};
 use crate::systems::shatter::{PendingShatters, ShatterPair, fragment_half_extent};
 use crate::systems::sweep::{OverlappingPairs, Pair};
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
@@ -32,37 +32,46 @@ pub struct CollisionStats {
     /// Pairs that shattered since the start.
     pub shatters_total: u64,
     /// Pairs that met fast enough to shatter this update but bounced: their
-    /// fragments would have been below `min_fragment_size`, or there would
-    /// have been more than `max_bodies` bodies.
+    /// fragments would have been below `min_fragment_size`, there would
+    /// have been more than `max_bodies` bodies, or a fragment's id would
+    /// have passed [`MAX_ID`](crate::resources::MAX_ID).
     pub refused_shatters: usize,
     /// Refused shatters since the start.
     pub refused_total: u64,
 }
 
-/// The floor and the budget: turns the shatters that would make fragments
-/// below `min_fragment_size` or more bodies than `max_bodies` (counting from
-/// `bodies`, in pair order) into what the pair does when it may not shatter
-/// (a bounce). Returns the number refused.
+/// The floor, the budget and the ids: turns the shatters that would make
+/// fragments below `min_fragment_size`, more bodies than `max_bodies`
+/// (counting from `bodies`), or an id past [`MAX_ID`](crate::resources::MAX_ID) (counting from
+/// `next_id`) — in pair order, as the shatter stage hands ids out — into
+/// what the pair does when it may not shatter (a bounce). Returns the
+/// number refused.
 pub fn refuse_shatters(
     matched: &[Matched],
     outcomes: &mut [Outcome],
     settings: &SimulationSettings,
     bodies: usize,
+    next_id: NextBodyId,
 ) -> usize {
     let count = settings.shatter_fragments.max(2);
     let added = u64::from(count) - 2;
     let mut bodies = bodies as u64;
+    let mut next_id = next_id;
     let mut refused = 0;
     for ((_, [a, b]), outcome) in matched.iter().zip(outcomes.iter_mut()) {
         if *outcome != Outcome::Shatter {
             continue;
         }
         let edge = 2.0 * fragment_half_extent(a.half_extents, b.half_extents, count);
-        if edge < f64::from(settings.min_fragment_size) || bodies + added > settings.max_bodies {
+        if edge < f64::from(settings.min_fragment_size)
+            || bodies + added > settings.max_bodies
+            || !next_id.has_room_for(u64::from(count))
+        {
             *outcome = respond(&a.into(), &b.into(), f32::INFINITY, settings.time_step);
             refused += 1;
         } else {
             bodies += added;
+            next_id.0 += u64::from(count);
         }
     }
     refused
@@ -161,12 +170,17 @@ fn apply_outcomes(
     responses
 }
 
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a system: the pairs, the bodies, and what limits and records their outcomes"
+)]
 fn respond_to_pairs(
     settings: Res<SimulationSettings>,
     mut stage: Stage,
     pairs: Res<OverlappingPairs>,
     mut pending: ResMut<PendingShatters>,
     mut stats: ResMut<CollisionStats>,
+    next_id: Res<NextBodyId>,
     mut busy: Local<HashSet<Entity>>,
     mut bodies: ContactQuery,
 ) {
@@ -198,7 +212,7 @@ fn respond_to_pairs(
                 .collect::<Vec<_>>()
         })
         .concat();
-    let refused = refuse_shatters(&matched, &mut outcomes, &settings, body_count);
+    let refused = refuse_shatters(&matched, &mut outcomes, &settings, body_count, *next_id);
     let responses = apply_outcomes(&matched, outcomes, &mut bodies, &mut pending);
     *stats = CollisionStats {
         pairs: pairs.0.len(),

@@ -9,7 +9,7 @@ use super::sandbox_settings::SandboxSettings;
 use crate::components::{BodyId, BodyState};
 use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
-use crate::scenario::{NoGenerators, Scenario};
+use crate::scenario::{CannotResize, Scenario};
 use crate::simulation::spawn_bodies;
 use crate::systems::{CollisionStats, GravityInUse, OverlappingPairs, SimulationFault, StageTimings};
 use crate::ui::sets::SandboxSystems;
@@ -85,9 +85,10 @@ pub enum SceneError {
     /// The scenario is unusable.
     #[error(transparent)]
     Scenario(#[from] InputError),
-    /// A body count was chosen for a scenario without generators.
+    /// A body count was chosen for a scenario that cannot take it (no
+    /// generators, or ids past their bound).
     #[error(transparent)]
-    NoGenerators(#[from] NoGenerators),
+    Resize(#[from] CannotResize),
 }
 
 /// The bodies a restart builds: the scenario with the chosen seed and body

@@ -6,7 +6,7 @@ use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionError, ExecutionMode, SplitPolicy};
 use crate::input::InputError;
 use crate::output::OutputError;
-use crate::scenario::NoGenerators;
+use crate::scenario::CannotResize;
 
 /// How the window runs; everything is optional.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -54,9 +54,10 @@ pub enum WindowError {
     /// The scenario named on the command line is unusable.
     #[error(transparent)]
     Scenario(#[from] InputError),
-    /// `--bodies` on a scenario without generators.
+    /// `--bodies` on a scenario that cannot take it (no generators, or ids
+    /// past their bound).
     #[error("--bodies: {0}")]
-    NoGenerators(#[from] NoGenerators),
+    Resize(#[from] CannotResize),
     /// The worker pool could not be made.
     #[error(transparent)]
     Execution(#[from] ExecutionError),
