@@ -10,10 +10,11 @@ use crate::Simulation;
 use crate::calibration::machine_auto_split;
 use crate::dump;
 use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
-use crate::output::{check_distinct, check_replaceable, printable, write_atomically};
+use crate::output::{Output, check_outputs, printable, write_atomically};
 use crate::scenario::{Scenario, Snapshot, write_snapshot};
 use crate::systems::SimulationSystems;
 use crate::timeline::Timeline;
+use crate::user_files::default_calibration_path;
 
 /// Makes the execution the arguments ask for (split policy `auto` with
 /// this machine's calibration).
@@ -29,18 +30,22 @@ pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
     if let Some(gravity) = args.gravity {
         scenario.physics.gravity_method = gravity;
     }
-    let named: Vec<(&str, &Path)> = [
+    let named: Vec<Output<'_>> = [
         ("--dump", &args.dump),
         ("--save-scenario", &args.save_scenario),
         ("--timeline", &args.timeline),
     ]
     .into_iter()
-    .filter_map(|(flag, path)| path.as_deref().map(|p| (flag, p)))
+    .filter_map(|(flag, path)| path.as_deref().map(|p| Output::replacing(flag, p)))
     .collect();
-    for (flag, path) in &named {
-        check_replaceable(flag, path)?;
-    }
-    check_distinct(&named)?;
+    let calibration = default_calibration_path();
+    check_outputs(
+        &named,
+        &[
+            ("the scenario", &args.scenario),
+            ("the split calibration", &calibration),
+        ],
+    )?;
     let outputs = Outputs {
         dump: args.dump.as_deref(),
         scenario: args.save_scenario.as_deref(),
