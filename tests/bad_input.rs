@@ -505,3 +505,90 @@ fn a_run_whose_snapshot_cannot_be_written_writes_none_of_its_outputs() {
     assert!(std::fs::read_to_string(timeline).unwrap().starts_with("update,"));
     assert_eq!(std::fs::read(snapshot).unwrap(), b"precious");
 }
+
+/// No output replaces a file the command reads: a dump, a timeline or a
+/// snapshot over the scenario being run (named the same, relative against
+/// absolute, through a link or `..`), an output over the split calibration,
+/// a benchmark's results or side files over its config or the scenario the
+/// config names. One line, exit 2, nothing written.
+#[cfg(unix)]
+#[test]
+fn no_output_replaces_an_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron")).unwrap();
+    let scenario = dir.path().join("scen.ron");
+    std::fs::write(&scenario, &text).unwrap();
+    let link = dir.path().join("link.ron");
+    std::os::unix::fs::symlink(&scenario, &link).unwrap();
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    let absolute = scenario.to_str().unwrap();
+    let dotted = format!("{}/sub/../scen.ron", dir.path().display());
+    let headless = |input: &str, flag: &str, output: &str, needle: &str| {
+        let out = kessler()
+            .current_dir(dir.path())
+            .args(["headless", input, "--steps", "1", flag, output])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{input} {flag} {output}: {out:?}");
+        assert_one_clear_line(&out.stderr, &[flag, output, needle]);
+    };
+    for flag in ["--dump", "--timeline", "--save-scenario"] {
+        for (input, output) in [
+            (absolute, absolute),
+            ("scen.ron", absolute),
+            (absolute, "./scen.ron"),
+            ("link.ron", "scen.ron"),
+            (&dotted, "scen.ron"),
+        ] {
+            headless(input, flag, output, "is the scenario this command reads");
+        }
+    }
+    assert_eq!(
+        std::fs::read_to_string(&scenario).unwrap(),
+        text,
+        "the scenario was replaced"
+    );
+
+    // The split calibration every command reads.
+    let config = dir.path().join("config");
+    std::fs::create_dir_all(config.join("kessler")).unwrap();
+    let calibration = config.join("kessler").join("calibration.ron");
+    std::fs::write(&calibration, "Calibration(").unwrap();
+    let out = kessler()
+        .env("XDG_CONFIG_HOME", &config)
+        .args(["headless", absolute, "--steps", "1", "--dump"])
+        .arg(&calibration)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    assert_one_clear_line(&out.stderr, &["--dump", "is the split calibration this command reads"]);
+    assert_eq!(std::fs::read_to_string(&calibration).unwrap(), "Calibration(");
+
+    // A benchmark's outputs against its config and its scenario, a side
+    // file (the PNG plot beside `--out r.csv`) included.
+    let png_scenario = dir.path().join("r.png");
+    std::fs::write(&png_scenario, &text).unwrap();
+    let bench = dir.path().join("bench.ron");
+    let bench_text = "Bench(scenario: \"r.png\", runs: [Run(bodies: 2, updates: 1)])";
+    std::fs::write(&bench, bench_text).unwrap();
+    for (out_path, needle) in [
+        (bench.clone(), "is the bench config this command reads"),
+        (
+            dir.path().join("r.csv"),
+            "is the scenario the bench config names this command reads",
+        ),
+    ] {
+        let out = kessler()
+            .arg("bench")
+            .arg(&bench)
+            .arg("--out")
+            .arg(&out_path)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{out:?}");
+        assert_one_clear_line(&out.stderr, &["--out", needle]);
+    }
+    assert_eq!(std::fs::read_to_string(&bench).unwrap(), bench_text);
+    assert_eq!(std::fs::read_to_string(&png_scenario).unwrap(), text);
+    assert!(!dir.path().join("r.csv").exists() && !dir.path().join("r-machine.txt").exists());
+}

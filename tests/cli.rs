@@ -235,3 +235,31 @@ fn every_snapshot_near_the_bound_on_ids_loads_back() {
         }
     }
 }
+
+/// More threads than the machine can run are bounded, with a warning:
+/// `--threads 256` on two cores took 40 s, and measured only the waiting.
+#[test]
+fn calibrate_bounds_the_threads_to_what_the_machine_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("calibration.ron");
+    let start = std::time::Instant::now();
+    let out = kessler()
+        .args(["calibrate", "--threads", "256", "--out"])
+        .arg(&path)
+        .timeout(std::time::Duration::from_secs(120))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let most = (2 * std::thread::available_parallelism().map_or(1, |n| n.get())).clamp(2, 256);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if most < 256 {
+        assert!(
+            stderr.contains("warning: --threads 256: this machine has")
+                && stderr.contains(&format!("calibrating on {most}")),
+            "{stderr}"
+        );
+    }
+    let calibration = kessler::calibration::load_calibration(&path).unwrap().unwrap();
+    assert_eq!(calibration.threads, most);
+    eprintln!("calibrate --threads 256 took {:?}", start.elapsed());
+}

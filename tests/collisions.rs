@@ -106,7 +106,7 @@ fn a_cube_through_a_balls_corner_region_passes_untouched() {
 fn a_cube_hitting_a_ball_bounces_off_its_surface() {
     let mut s = sim("Scenario(gravitational_constant: 0, bodies: [
         Body(position: (0, 0, 0), shape: Sphere(radius: 100), mass: 4000, role: Source, interacts: false),
-        Body(position: (60, 81, 0), velocity: (0, -3, 0)),
+        Body(position: (60, 82, 0), velocity: (0, -3, 0)),
     ])");
     s.step(1);
     let b = s.snapshot()[1];

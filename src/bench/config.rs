@@ -213,15 +213,20 @@ impl BenchConfig {
         })
     }
 
+    /// The path of the scenario the config names (relative to the config's
+    /// folder), if it names one.
+    pub fn scenario_path(&self, config_path: &Path) -> Option<PathBuf> {
+        self.scenario
+            .as_ref()
+            .map(|path| config_path.parent().unwrap_or(Path::new(".")).join(path))
+    }
+
     /// The scenario the runs scale: the file named in the config (relative
     /// to the config's folder), or the built-in thesis scene.
     pub fn load_scenario(&self, config_path: &Path) -> Result<Scenario, InputError> {
-        match &self.scenario {
-            Some(path) => {
-                let path = config_path.parent().unwrap_or(Path::new(".")).join(path);
-                Scenario::load(&path)
-                    .map_err(|e| InputError::new(config_path.display().to_string(), format!("field `scenario`: {e}")))
-            }
+        match self.scenario_path(config_path) {
+            Some(path) => Scenario::load(&path)
+                .map_err(|e| InputError::new(config_path.display().to_string(), format!("field `scenario`: {e}"))),
             None => Ok(Scenario::builtin_thesis()),
         }
     }

@@ -7,7 +7,9 @@
 use std::path::{Path, PathBuf};
 
 use super::{Crossover, OverheadRow, PassRow, RenderRow, RunResult, overhead_rows, png, svg};
-use crate::output::{AppendedFile, OutputError, OutputProblem, WriteError, check_new, write_atomically, write_csv};
+use crate::output::{
+    AppendedFile, Output, OutputError, OutputProblem, WriteError, check_outputs, write_atomically, write_csv,
+};
 
 /// What to do when an output exists already.
 const NEVER_OVERWRITE: &str = "remove it or choose another --out (results are never overwritten)";
@@ -142,9 +144,10 @@ impl BenchOutputs {
     ];
 
     /// Refuses, before any run, if two outputs would be one file (`--out
-    /// r.svg` names the plot's path), or if an output exists or its folder
-    /// does not.
-    pub fn check(&self) -> Result<(), OutputError> {
+    /// r.svg` names the plot's path), if an output is one of the files the
+    /// benchmark reads, `inputs` (what, in words, and path: see
+    /// [`check_outputs`]), or if an output exists or its folder does not.
+    pub fn check(&self, inputs: &[(&str, &Path)]) -> Result<(), OutputError> {
         let paths = self.paths();
         for (i, path) in paths.iter().enumerate() {
             if let Some(j) = paths[i + 1..].iter().position(|other| other == path) {
@@ -155,9 +158,11 @@ impl BenchOutputs {
                 });
             }
         }
-        paths
+        let outputs: Vec<Output<'_>> = paths
             .into_iter()
-            .try_for_each(|path| check_new("--out", path, NEVER_OVERWRITE))
+            .map(|path| Output::new_only("--out", path, NEVER_OVERWRITE))
+            .collect();
+        check_outputs(&outputs, inputs)
     }
 
     /// Writes the machine report and creates the files that grow while the

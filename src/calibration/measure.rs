@@ -10,7 +10,7 @@ use super::Calibration;
 use crate::bench::{
     Crossover, Run, RunDefaults, RunError, RunResult, Stages, Wins, crossovers, measure, this_cpu, utc_now,
 };
-use crate::execution::{ExecutionMode, SplitPolicy};
+use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy};
 use crate::scenario::Scenario;
 
 /// Body counts measured.
@@ -22,6 +22,25 @@ pub const PASSES: usize = 3;
 /// Split count of a stage that did not win at the ladder's top: beyond it,
 /// on the guess that more work pays for the split eventually.
 pub const NOT_FOUND: u64 = 2 * LADDER[LADDER.len() - 1];
+
+/// The thread count `kessler calibrate` measures when asked for `asked`
+/// on a machine of `hardware` threads: `asked`, bounded to twice the
+/// hardware threads (at least 2), as the window's thread choice is; with a
+/// warning where it was bounded. Beyond that, workers only wait on one
+/// another — 256 threads on 2 cores took 40 s to measure that — and `Auto`
+/// uses the counts whatever the thread count.
+pub fn threads_to_measure(asked: usize, hardware: usize) -> (usize, Option<String>) {
+    let most = hardware.saturating_mul(2).clamp(2, MAX_THREADS);
+    if asked <= most {
+        return (asked, None);
+    }
+    let warning = format!(
+        "--threads {asked}: this machine has {hardware} hardware thread{}; calibrating on {most}, twice that \
+         (more threads only wait on one another, and would take minutes to measure)",
+        if hardware == 1 { "" } else { "s" }
+    );
+    (most, Some(warning))
+}
 
 /// Updates measured at `bodies`: about the same time per run at every
 /// count, enough updates at small counts for a stable mean.
@@ -123,6 +142,22 @@ mod tests {
             }
         }
         all
+    }
+
+    #[test]
+    fn the_threads_measured_are_at_most_twice_the_hardware() {
+        assert_eq!(threads_to_measure(2, 2), (2, None));
+        assert_eq!(threads_to_measure(4, 2), (4, None));
+        assert_eq!(threads_to_measure(2, 1), (2, None), "two threads anywhere");
+        let (threads, warning) = threads_to_measure(256, 2);
+        assert_eq!(threads, 4);
+        let warning = warning.unwrap();
+        assert!(
+            warning.starts_with("--threads 256: this machine has 2 hardware threads; calibrating on 4"),
+            "{warning}"
+        );
+        assert_eq!(threads_to_measure(256, 64).0, 128);
+        assert_eq!(threads_to_measure(256, 200).0, 256);
     }
 
     #[test]

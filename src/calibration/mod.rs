@@ -6,4 +6,4 @@ mod file;
 mod measure;
 
 pub use file::{Calibration, auto_split_from, load_calibration, machine_auto_split};
-pub use measure::{LADDER, NOT_FOUND, PASSES, calibrate};
+pub use measure::{LADDER, NOT_FOUND, PASSES, calibrate, threads_to_measure};

@@ -54,9 +54,12 @@ pub enum Command {
         gravity: Option<GravityMethod>,
     },
     /// Measure from which body count each stage pays for splitting its work
-    /// on this machine (a few seconds); split policy `auto` uses the result.
+    /// on this machine (a few seconds: about 2 on 2 cores); split policy
+    /// `auto` uses the result.
     Calibrate {
-        /// Worker threads to calibrate for [default: all hardware threads].
+        /// Worker threads to calibrate for, at most twice the hardware
+        /// threads (more are bounded to that, with a warning) [default: all
+        /// hardware threads].
         #[arg(
             long,
             value_parser = crate::input::threads_arg,

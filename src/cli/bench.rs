@@ -17,6 +17,7 @@ use crate::calibration::machine_auto_split;
 use crate::execution::SplitPolicy;
 use crate::resources::GravityMethod;
 use crate::scenario::Scenario;
+use crate::user_files::default_calibration_path;
 
 /// Threads of the bare dispatch measurement.
 const EMPTY_STEP_THREADS: [usize; 2] = [1, 2];
@@ -42,7 +43,14 @@ pub fn bench(
         )));
     }
     let outputs = BenchOutputs::beside(out);
-    outputs.check()?;
+    let scenario_path = config.scenario_path(config_path);
+    let calibration = default_calibration_path();
+    let mut inputs: Vec<(&str, &Path)> = vec![("the bench config", config_path)];
+    if let Some(path) = &scenario_path {
+        inputs.push(("the scenario the bench config names", path));
+    }
+    inputs.push(("the split calibration", &calibration));
+    outputs.check(&inputs)?;
     let mut scenario = config.load_scenario(config_path)?;
     if let Some(gravity) = gravity {
         scenario.physics.gravity_method = gravity;
@@ -63,10 +71,6 @@ pub fn bench(
     );
     let mut growing = outputs.start(&machine, headless, render)?;
     let (results, passes) = measure_passes(&config, &sized, &defaults, &mut growing, config_path)?;
-    let scenario_path = config
-        .scenario
-        .as_ref()
-        .map(|p| config_path.parent().unwrap_or(Path::new(".")).join(p));
     for (i, run) in config.render_runs() {
         eprintln!(
             "window run {}: {} bodies, {}, {} frames…",

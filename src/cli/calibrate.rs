@@ -5,21 +5,25 @@ use std::path::Path;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::Failure;
-use crate::calibration::{calibrate, load_calibration};
+use crate::calibration::{calibrate, load_calibration, threads_to_measure};
 use crate::execution::available_threads;
-use crate::output::check_replaceable;
+use crate::output::{Output, check_outputs};
 use crate::user_files::default_calibration_path;
 
 /// Runs the command.
 pub fn calibrate_command(threads: Option<usize>, out: Option<&Path>) -> Result<(), Failure> {
-    let threads = threads.unwrap_or_else(available_threads);
+    let (threads, bounded) = threads_to_measure(threads.unwrap_or_else(available_threads), available_threads());
     // A path given is checked before the measuring; the default one's
     // folder is made if missing.
     let path = out.map_or_else(default_calibration_path, Path::to_owned);
     // A path given is checked before the measuring; so is the default one
     // where something is there already (else its folder is made).
+    // (It reads no file but the calibration it replaces.)
     if out.is_some() || path.symlink_metadata().is_ok() {
-        check_replaceable("--out", &path)?;
+        check_outputs(&[Output::replacing("--out", &path)], &[])?;
+    }
+    if let Some(warning) = bounded {
+        eprintln!("kessler: warning: {warning}");
     }
     let bar = ProgressBar::new(0).with_style(
         ProgressStyle::with_template("{spinner} calibrating [{bar:30}] {pos}/{len} runs, eta {eta}")

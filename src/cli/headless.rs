@@ -10,11 +10,12 @@ use crate::Simulation;
 use crate::calibration::machine_auto_split;
 use crate::dump;
 use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
-use crate::output::{WriteError, check_distinct, check_replaceable, commit_all, printable, stage};
+use crate::output::{Output, WriteError, check_outputs, commit_all, printable, stage};
 use crate::resources::MemoryBudget;
 use crate::scenario::{Scenario, Snapshot, beyond_a_scenario, write_snapshot};
 use crate::systems::SimulationSystems;
 use crate::timeline::Timeline;
+use crate::user_files::default_calibration_path;
 
 /// Makes the execution the arguments ask for (split policy `auto` with
 /// this machine's calibration).
@@ -43,18 +44,22 @@ pub fn headless(args: &HeadlessArgs) -> Result<(), Failure> {
         scenario.physics.gravity_method = gravity;
     }
     warn_of_memory(&scenario);
-    let named: Vec<(&str, &Path)> = [
+    let named: Vec<Output<'_>> = [
         ("--dump", &args.dump),
         ("--save-scenario", &args.save_scenario),
         ("--timeline", &args.timeline),
     ]
     .into_iter()
-    .filter_map(|(flag, path)| path.as_deref().map(|p| (flag, p)))
+    .filter_map(|(flag, path)| path.as_deref().map(|p| Output::replacing(flag, p)))
     .collect();
-    for (flag, path) in &named {
-        check_replaceable(flag, path)?;
-    }
-    check_distinct(&named)?;
+    let calibration = default_calibration_path();
+    check_outputs(
+        &named,
+        &[
+            ("the scenario", &args.scenario),
+            ("the split calibration", &calibration),
+        ],
+    )?;
     let outputs = Outputs {
         dump: args.dump.as_deref(),
         scenario: args.save_scenario.as_deref(),

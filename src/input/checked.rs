@@ -14,47 +14,58 @@ pub fn read<'de, T: Deserialize<'de>, D: Deserializer<'de>>(d: D, field: &str) -
     T::deserialize(d).map_err(|e| D::Error::custom(format!("field `{field}`: {e}")))
 }
 
-/// A `T` for which `ok` holds; `rule` says which in words.
-fn checked<'de, D, T>(d: D, field: &str, rule: impl Display, ok: impl Fn(&T) -> bool) -> Result<T, D::Error>
-where
-    D: Deserializer<'de>,
-    T: Deserialize<'de> + Display,
-{
-    let value: T = read(d, field)?;
-    if ok(&value) {
-        Ok(value)
+/// A number as a message shows what the file wrote: read as an `f64`
+/// (wider than every number a file holds), so a value beyond `f32`'s range
+/// is shown as itself (`1e39`, not `inf`); written in exponent form where
+/// plain digits would run long (`1e39`, `1e-45`), else plainly (`-1`,
+/// `0.25`).
+pub fn shown_number(value: f64) -> String {
+    let magnitude = value.abs();
+    if value.is_finite() && value != 0.0 && !(1e-5..1e16).contains(&magnitude) {
+        format!("{value:e}")
     } else {
-        Err(D::Error::custom(format!(
-            "field `{field}`: must be {rule}, got {value}"
-        )))
+        value.to_string()
     }
 }
 
-/// A finite `f32` for which `ok` holds; `rule` says which in words.
+/// `value` narrowed to a finite `f32` for which `ok` holds, if it is one.
+fn narrowed(value: f64, ok: &impl Fn(f32) -> bool) -> Option<f32> {
+    // Beyond f32's range this is infinite, and refused.
+    let narrow = value as f32;
+    (narrow.is_finite() && ok(narrow)).then_some(narrow)
+}
+
+/// A finite `f32` for which `ok` holds; `rule` says which in words. Read
+/// as an `f64` and narrowed once checked, so that the message shows the
+/// value as written ([`shown_number`]).
 pub fn f32_where<'de, D: Deserializer<'de>>(
     d: D,
     field: &str,
     rule: &str,
     ok: impl Fn(f32) -> bool,
 ) -> Result<f32, D::Error> {
-    checked(d, field, rule, |v: &f32| v.is_finite() && ok(*v))
+    let wide: f64 = read(d, field)?;
+    narrowed(wide, &ok)
+        .ok_or_else(|| D::Error::custom(format!("field `{field}`: must be {rule}, got {}", shown_number(wide))))
 }
 
-/// Three finite `f32`s (a vector) for each of which `ok` holds.
+/// Three finite `f32`s (a vector) for each of which `ok` holds; read and
+/// shown as [`f32_where`] does.
 pub fn vec3_where<'de, D: Deserializer<'de>>(
     d: D,
     field: &str,
     rule: &str,
     ok: impl Fn(f32) -> bool,
 ) -> Result<[f32; 3], D::Error> {
-    let value: [f32; 3] = read(d, field)?;
-    if value.iter().all(|c| c.is_finite() && ok(*c)) {
-        Ok(value)
-    } else {
-        let [x, y, z] = value;
-        Err(D::Error::custom(format!(
-            "field `{field}`: every component must be {rule}, got ({x}, {y}, {z})"
-        )))
+    let wide: [f64; 3] = read(d, field)?;
+    match wide.map(|c| narrowed(c, &ok)) {
+        [Some(x), Some(y), Some(z)] => Ok([x, y, z]),
+        _ => {
+            let [x, y, z] = wide.map(shown_number);
+            Err(D::Error::custom(format!(
+                "field `{field}`: every component must be {rule}, got ({x}, {y}, {z})"
+            )))
+        }
     }
 }
 
@@ -151,5 +162,49 @@ mod tests {
             "field `n`: must be between 1 and 9, got 10"
         );
         assert!(parse("(x: 1.0, n: \"three\")").unwrap_err().starts_with("field `n`: "));
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    struct Vector(#[serde(deserialize_with = "finite")] [f32; 3]);
+
+    fn finite<'de, D: Deserializer<'de>>(d: D) -> Result<[f32; 3], D::Error> {
+        vec3_where(d, "position", "finite", |_| true)
+    }
+
+    #[test]
+    fn numbers_beyond_f32_are_shown_as_written_not_as_inf() {
+        assert_eq!(
+            parse("(x: 1e39, n: 3)").unwrap_err(),
+            "field `x`: must be finite and > 0, got 1e39"
+        );
+        assert_eq!(
+            parse("(x: 1e-50, n: 3)").unwrap_err(),
+            "field `x`: must be finite and > 0, got 1e-50",
+            "it would be 0 as an f32"
+        );
+        assert_eq!(parse("(x: 3.4e38, n: 3)").unwrap().x, 3.4e38);
+        let vector = |text: &str| {
+            ron::from_str::<Vector>(text)
+                .map(|v| v.0)
+                .map_err(|e| e.code.to_string())
+        };
+        assert_eq!(vector("((1, -2.5, 3e38))"), Ok([1.0, -2.5, 3e38]));
+        assert_eq!(
+            vector("((1e39, 0, 0))").unwrap_err(),
+            "field `position`: every component must be finite, got (1e39, 0, 0)"
+        );
+        assert_eq!(
+            vector("((NaN, -inf, 0.5))").unwrap_err(),
+            "field `position`: every component must be finite, got (NaN, -inf, 0.5)"
+        );
+        for (value, shown) in [
+            (-1.0, "-1"),
+            (0.0, "0"),
+            (0.25, "0.25"),
+            (1e-45, "1e-45"),
+            (1e16, "1e16"),
+        ] {
+            assert_eq!(shown_number(value), shown);
+        }
     }
 }

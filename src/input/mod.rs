@@ -7,7 +7,7 @@ mod file;
 mod limits;
 mod ron_text;
 
-pub use checked::{body_count, f32_where, read, vec3_where, whole, whole_at_least, whole_between};
+pub use checked::{body_count, f32_where, read, shown_number, vec3_where, whole, whole_at_least, whole_between};
 pub use error::InputError;
 #[cfg(all(test, unix))]
 pub(crate) use file::make_fifo;

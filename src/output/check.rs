@@ -1,6 +1,9 @@
 //! Checks, made before any work starts, that an output path can be written:
 //! its folder exists, it is not a folder, and — for outputs that are never
-//! overwritten — nothing is there yet.
+//! overwritten — nothing is there yet; that no two outputs of a command are
+//! one file; and that no output is a file the command reads (its scenario,
+//! its config, the settings, the calibration). [`check_outputs`] makes them
+//! all, for every command that writes.
 
 use std::path::{Path, PathBuf};
 
@@ -54,6 +57,113 @@ pub enum OutputProblem {
     /// Two outputs of one command would be this one file.
     #[error(": the {0} would be written there too; give the results another name (e.g. results.csv)")]
     Shared(&'static str),
+    /// It is a file the command reads (what, in words): writing it would
+    /// replace the command's own input.
+    #[error(": is {0} this command reads; an output never replaces an input, give it another name")]
+    IsInput(String),
+}
+
+/// What an output does with a file already at its path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Existing {
+    /// A regular file there is replaced ([`check_replaceable`]).
+    Replaced,
+    /// Anything there is refused ([`check_new`]); the text says what to do
+    /// instead.
+    Refused(&'static str),
+}
+
+/// One output of a command: the option (or field) that names it, its path,
+/// and what it does with a file there.
+#[derive(Clone, Copy, Debug)]
+pub struct Output<'a> {
+    /// The option that named the path.
+    pub flag: &'a str,
+    /// The path.
+    pub path: &'a Path,
+    /// Whether a file there is replaced.
+    pub existing: Existing,
+}
+
+impl<'a> Output<'a> {
+    /// An output that replaces a regular file at `path`.
+    pub fn replacing(flag: &'a str, path: &'a Path) -> Self {
+        Self {
+            flag,
+            path,
+            existing: Existing::Replaced,
+        }
+    }
+
+    /// An output that never overwrites: `advice` says what to do if
+    /// something is at `path`.
+    pub fn new_only(flag: &'a str, path: &'a Path, advice: &'static str) -> Self {
+        Self {
+            flag,
+            path,
+            existing: Existing::Refused(advice),
+        }
+    }
+}
+
+/// Every check of a command's outputs, before any work: none is one of the
+/// files the command reads, `inputs` (what each is, in words — "the
+/// scenario" — and its path; see [`check_not_inputs`]); each can be written
+/// ([`check_replaceable`], or [`check_new`] for outputs that never
+/// overwrite); and no two are one file ([`check_distinct`]).
+pub fn check_outputs(outputs: &[Output<'_>], inputs: &[(&str, &Path)]) -> Result<(), OutputError> {
+    let named: Vec<(&str, &Path)> = outputs.iter().map(|o| (o.flag, o.path)).collect();
+    check_not_inputs(&named, inputs)?;
+    for output in outputs {
+        match output.existing {
+            Existing::Replaced => check_replaceable(output.flag, output.path)?,
+            Existing::Refused(advice) => check_new(output.flag, output.path, advice)?,
+        }
+    }
+    check_distinct(&named)
+}
+
+/// Checks that none of `outputs` (option and path) is one of `inputs`
+/// (what it is, in words, and path): an output written there would replace
+/// what the command was given — a dump over the scenario being run.
+/// Compared as files (see [`same_file`]): a relative path and an absolute
+/// one, a path through a link, and a hard link all name the file they
+/// reach.
+pub fn check_not_inputs(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), OutputError> {
+    for (flag, path) in outputs {
+        if let Some((what, _)) = inputs.iter().find(|(_, input)| same_file(path, input)) {
+            return Err(problem(flag, path, OutputProblem::IsInput((*what).to_owned())));
+        }
+    }
+    Ok(())
+}
+
+/// Whether `a` and `b` are one file: the same device and inode where both
+/// exist (on Unix), else the same path once resolved — links and `..`
+/// followed, made absolute from the working folder (a missing file by its
+/// folder, resolved, and its name).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+        use std::os::unix::fs::MetadataExt;
+        return (x.dev(), x.ino()) == (y.dev(), y.ino());
+    }
+    resolved(a) == resolved(b)
+}
+
+/// `path` made absolute, its links and `..` followed as far as it exists.
+fn resolved(path: &Path) -> PathBuf {
+    if let Ok(full) = std::fs::canonicalize(path) {
+        return full;
+    }
+    let folder = path
+        .parent()
+        .filter(|f| !f.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let folder = std::fs::canonicalize(folder)
+        .or_else(|_| std::path::absolute(folder))
+        .unwrap_or_else(|_| folder.to_owned());
+    folder.join(path.file_name().unwrap_or_default())
 }
 
 fn problem(flag: &str, path: &Path, problem: OutputProblem) -> OutputError {
@@ -120,19 +230,11 @@ fn probe(path: &Path) -> std::io::Result<()> {
 
 /// Checks that no two of a command's `outputs` (option and path) are one
 /// file: the last written would silently replace the other.
-/// Each path is compared as its folder, resolved (links and `..`), and its
-/// name; check each with [`check_replaceable`] first, so the folders exist.
+/// Compared as files (see [`same_file`]); check each with
+/// [`check_replaceable`] first, so the folders exist.
 pub fn check_distinct(outputs: &[(&str, &Path)]) -> Result<(), OutputError> {
-    let identity = |p: &Path| {
-        let folder = p
-            .parent()
-            .filter(|f| !f.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_owned());
-        folder.join(p.file_name().unwrap_or_default())
-    };
     for (k, (flag, path)) in outputs.iter().enumerate() {
-        if let Some((other, _)) = outputs[..k].iter().find(|(_, p)| identity(p) == identity(path)) {
+        if let Some((other, _)) = outputs[..k].iter().find(|(_, p)| same_file(p, path)) {
             return Err(problem(flag, path, OutputProblem::SameAs(other.to_string())));
         }
     }
@@ -217,6 +319,73 @@ mod tests {
         let e = check_distinct(&[("--dump", &file), ("--timeline", &dir.path().join("./existing.csv"))]).unwrap_err();
         assert!(e.to_string().ends_with(": --dump names the same file"), "{e}");
         assert!(check_distinct(&[("--dump", &file), ("--timeline", &long)]).is_ok());
+    }
+
+    #[test]
+    fn an_output_that_is_an_input_is_refused_however_it_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("scen.ron");
+        std::fs::write(&input, "x").unwrap();
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let inputs = [("the scenario", input.as_path())];
+        let dotted = dir.path().join("sub/../scen.ron");
+        for output in [input.clone(), dotted] {
+            let e = check_not_inputs(&[("--dump", &output)], &inputs).unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!(
+                    "--dump {}: is the scenario this command reads; an output never replaces an input, give it \
+                     another name",
+                    output.display()
+                )
+            );
+        }
+        let other = dir.path().join("other.ron");
+        assert!(
+            check_not_inputs(&[("--dump", &other)], &inputs).is_ok(),
+            "not there yet"
+        );
+        std::fs::write(&other, "x").unwrap();
+        assert!(check_not_inputs(&[("--dump", &other)], &inputs).is_ok(), "another file");
+        // The same file named relative to the working folder and absolute.
+        let here = std::env::current_dir().unwrap();
+        let cargo = here.join("Cargo.toml");
+        assert!(same_file(Path::new("Cargo.toml"), &cargo));
+        assert!(same_file(
+            Path::new("./no-such-file.csv"),
+            &here.join("no-such-file.csv")
+        ));
+        assert!(!same_file(Path::new("Cargo.toml"), &here.join("no-such-file.csv")));
+        // Every check at once: the input first.
+        let outputs = [
+            Output::replacing("--dump", &other),
+            Output::new_only("--out", &input, "never"),
+        ];
+        let e = check_outputs(&outputs, &inputs).unwrap_err();
+        assert!(
+            matches!(e.problem, OutputProblem::IsInput(_)) && e.flag == "--out",
+            "{e}"
+        );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_to_an_input_or_a_second_name_of_it_is_the_input() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("scen.ron");
+        std::fs::write(&input, "x").unwrap();
+        let link = dir.path().join("link.ron");
+        std::os::unix::fs::symlink(&input, &link).unwrap();
+        let hard = dir.path().join("hard.ron");
+        std::fs::hard_link(&input, &hard).unwrap();
+        for (output, read) in [(&input, &link), (&link, &input), (&hard, &input)] {
+            assert!(
+                check_not_inputs(&[("--dump", output)], &[("the scenario", read)]).is_err(),
+                "{} as {}",
+                output.display(),
+                read.display()
+            );
+        }
     }
 
     #[test]

@@ -11,7 +11,10 @@ mod png_image;
 
 pub use appended::AppendedFile;
 pub use atomic::{Staged, WriteError, commit_all, create_temporary, stage, write_atomically};
-pub use check::{OutputError, OutputProblem, check_distinct, check_extension, check_new, check_replaceable};
+pub use check::{
+    Existing, Output, OutputError, OutputProblem, check_distinct, check_extension, check_new, check_not_inputs,
+    check_outputs, check_replaceable, same_file,
+};
 pub use csv::{Cells, CsvRow, CsvTable, header, line, write_csv};
 pub use message::printable;
 pub use png_image::write_png;

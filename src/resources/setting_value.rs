@@ -8,7 +8,7 @@ use serde::de::{Deserializer, Error};
 use serde::{Deserialize, Serialize};
 
 use super::GravityMethod;
-use crate::input::{read, whole};
+use crate::input::{f32_where, read, shown_number, whole};
 
 /// A physics setting's type.
 pub trait SettingValue: Copy + PartialEq + Debug + Serialize + for<'de> Deserialize<'de> {
@@ -25,11 +25,36 @@ pub trait SettingValue: Copy + PartialEq + Debug + Serialize + for<'de> Deserial
 
     /// The value as a message shows it (`got …`).
     fn shown(&self) -> String;
+
+    /// Reads a value and holds it to `ok`: ``field `NAME`: must be RULE,
+    /// got VALUE`` where it fails.
+    fn read_checked<'de, D: Deserializer<'de>>(
+        d: D,
+        field: &str,
+        rule: &str,
+        ok: impl Fn(Self) -> bool,
+    ) -> Result<Self, D::Error> {
+        let value = Self::read(d, field, rule)?;
+        problem(value, rule, ok).map_or(Ok(value), |problem| {
+            Err(D::Error::custom(format!("field `{field}`: {problem}")))
+        })
+    }
 }
 
 impl SettingValue for f32 {
     fn read<'de, D: Deserializer<'de>>(d: D, field: &str, _rule: &str) -> Result<Self, D::Error> {
         read(d, field)
+    }
+
+    /// Read as an `f64` and narrowed once checked, so that a number beyond
+    /// `f32`'s range is shown as the file wrote it (`1e39`, not `inf`).
+    fn read_checked<'de, D: Deserializer<'de>>(
+        d: D,
+        field: &str,
+        rule: &str,
+        ok: impl Fn(Self) -> bool,
+    ) -> Result<Self, D::Error> {
+        f32_where(d, field, rule, ok)
     }
 
     fn sound(&self) -> bool {
@@ -59,11 +84,7 @@ whole_setting!(u32, u64);
 
 impl SettingValue for GravityMethod {
     fn read<'de, D: Deserializer<'de>>(d: D, field: &str, _rule: &str) -> Result<Self, D::Error> {
-        Self::deserialize(d).map_err(|e| {
-            D::Error::custom(format!(
-                "field `{field}`: {e} (write `Auto`, `Direct` or `Tree(theta: 0.5)`)"
-            ))
-        })
+        Self::deserialize(d).map_err(|e| unreadable_method::<D>(field, &e))
     }
 
     fn shown(&self) -> String {
@@ -73,6 +94,47 @@ impl SettingValue for GravityMethod {
             Self::Tree { theta } => format!("Tree(theta: {theta})"),
         }
     }
+
+    /// Read with `theta` as an `f64`, as [`f32_where`] reads a number, so
+    /// that `Tree(theta: 1e39)` is shown so, not as `Tree(theta: inf)`.
+    fn read_checked<'de, D: Deserializer<'de>>(
+        d: D,
+        field: &str,
+        rule: &str,
+        ok: impl Fn(Self) -> bool,
+    ) -> Result<Self, D::Error> {
+        /// [`GravityMethod`] as a file writes it, `theta` wide.
+        #[derive(Deserialize)]
+        #[serde(rename = "GravityMethod")]
+        enum Wide {
+            Auto,
+            Direct,
+            Tree { theta: f64 },
+        }
+        let (method, shown) = match Wide::deserialize(d).map_err(|e| unreadable_method::<D>(field, &e))? {
+            Wide::Auto => (Self::Auto, "Auto".to_owned()),
+            Wide::Direct => (Self::Direct, "Direct".to_owned()),
+            Wide::Tree { theta } => (
+                // Beyond f32's range this is infinite, and refused.
+                Self::Tree { theta: theta as f32 },
+                format!("Tree(theta: {})", shown_number(theta)),
+            ),
+        };
+        if method.sound() && ok(method) {
+            Ok(method)
+        } else {
+            Err(D::Error::custom(format!(
+                "field `{field}`: must be {rule}, got {shown}"
+            )))
+        }
+    }
+}
+
+/// A gravity method that is not one, with how to write one.
+fn unreadable_method<'de, D: Deserializer<'de>>(field: &str, e: &D::Error) -> D::Error {
+    D::Error::custom(format!(
+        "field `{field}`: {e} (write `Auto`, `Direct` or `Tree(theta: 0.5)`)"
+    ))
 }
 
 /// Reads a `T` and holds it to `ok`: ``field `NAME`: must be RULE, got
@@ -83,10 +145,7 @@ pub fn read_checked<'de, T: SettingValue, D: Deserializer<'de>>(
     rule: &str,
     ok: impl Fn(T) -> bool,
 ) -> Result<T, D::Error> {
-    let value = T::read(d, field, rule)?;
-    problem(value, rule, ok).map_or(Ok(value), |problem| {
-        Err(D::Error::custom(format!("field `{field}`: {problem}")))
-    })
+    T::read_checked(d, field, rule, ok)
 }
 
 /// What is wrong with `value` by `rule` (``must be RULE, got VALUE``), if
@@ -113,5 +172,64 @@ mod tests {
             "must be finite and >= 0, got -1"
         );
         assert_eq!(problem(1.0f32, "finite and >= 0", |v| v >= 0.0), None);
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    struct Read(#[serde(deserialize_with = "size")] f32);
+
+    fn size<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
+        read_checked(d, "min_fragment_size", "finite and >= 0", |v: f32| v >= 0.0)
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    struct Method(#[serde(deserialize_with = "method")] GravityMethod);
+
+    fn method<'de, D: Deserializer<'de>>(d: D) -> Result<GravityMethod, D::Error> {
+        read_checked(
+            d,
+            "gravity",
+            "Tree(theta: θ) with θ finite from 0 to 2",
+            |v: GravityMethod| v.check().is_ok(),
+        )
+    }
+
+    #[test]
+    fn a_theta_beyond_f32_is_shown_as_written() {
+        let read = |text: &str| {
+            ron::from_str::<Method>(text)
+                .map(|r| r.0)
+                .map_err(|e| e.code.to_string())
+        };
+        assert_eq!(read("(Tree(theta: 0.7))"), Ok(GravityMethod::Tree { theta: 0.7 }));
+        assert_eq!(read("(Direct)"), Ok(GravityMethod::Direct));
+        for (text, shown) in [
+            ("(Tree(theta: 1e39))", "1e39"),
+            ("(Tree(theta: 3))", "3"),
+            ("(Tree(theta: NaN))", "NaN"),
+        ] {
+            assert_eq!(
+                read(text).unwrap_err(),
+                format!("field `gravity`: must be Tree(theta: θ) with θ finite from 0 to 2, got Tree(theta: {shown})")
+            );
+        }
+        assert!(read("(Barnes)").unwrap_err().contains("(write `Auto`"));
+    }
+
+    #[test]
+    fn a_number_beyond_f32_is_shown_as_written() {
+        let read = |text: &str| ron::from_str::<Read>(text).map(|r| r.0).map_err(|e| e.code.to_string());
+        assert_eq!(read("(2.5)"), Ok(2.5));
+        assert_eq!(read("(3e38)"), Ok(3e38));
+        for (text, shown) in [
+            ("(1e39)", "1e39"),
+            ("(-1e39)", "-1e39"),
+            ("(-2)", "-2"),
+            ("(-0.5)", "-0.5"),
+        ] {
+            assert_eq!(
+                read(text).unwrap_err(),
+                format!("field `min_fragment_size`: must be finite and >= 0, got {shown}")
+            );
+        }
     }
 }

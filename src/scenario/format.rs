@@ -127,6 +127,19 @@ fn given<T: Serialize, S: Serializer>(value: &Option<T>, out: S) -> Result<S::Ok
 }
 
 impl Body {
+    /// The body's shape, size and place in words, for messages: `a Sphere
+    /// of radius 430 at (0, 0, 0)`, `a box of half extents (1, 1, 1) at …`.
+    pub fn described(&self) -> String {
+        let [x, y, z] = self.position;
+        match self.shape {
+            Shape::Sphere { radius } => format!("a Sphere of radius {radius} at ({x}, {y}, {z})"),
+            Shape::Box => {
+                let [hx, hy, hz] = self.box_half_extents();
+                format!("a box of half extents ({hx}, {hy}, {hz}) at ({x}, {y}, {z})")
+            }
+        }
+    }
+
     /// Half the edge lengths of the body's box: a ball's bounding box, or
     /// the given ones (default a unit cube).
     pub fn box_half_extents(&self) -> [f32; 3] {

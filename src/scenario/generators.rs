@@ -21,22 +21,78 @@ fn body_state(id: u64, position: DVec3, velocity: DVec3, t: &Template) -> BodySt
     )
 }
 
+/// How far a box of `half` at `p` is from the explicit body `b` (its box,
+/// or its ball): below 0 they overlap, 0 they touch.
+fn gap(p: DVec3, half: DVec3, b: &Body) -> f64 {
+    let center = DVec3::from_array(b.position.map(f64::from));
+    match b.shape {
+        Shape::Box => {
+            let reach = DVec3::from_array(b.box_half_extents().map(f64::from)) + half;
+            ((p - center).abs() - reach).max_element()
+        }
+        Shape::Sphere { radius } => {
+            let closest = p + (center - p).clamp(-half, half);
+            closest.distance(center) - f64::from(radius)
+        }
+    }
+}
+
 /// True when a box of `half` at `p` touches or overlaps an explicit
 /// non-interacting body (its box, or its ball).
 fn inside_obstacle(p: DVec3, half: DVec3, obstacles: &[Body]) -> bool {
-    obstacles.iter().filter(|b| !b.interacts).any(|b| {
-        let center = DVec3::from_array(b.position.map(f64::from));
-        match b.shape {
-            Shape::Box => {
-                let reach = DVec3::from_array(b.box_half_extents().map(f64::from)) + half;
-                (p - center).abs().cmple(reach).all()
-            }
-            Shape::Sphere { radius } => {
-                let closest = p + (center - p).clamp(-half, half);
-                closest.distance(center) <= f64::from(radius)
-            }
-        }
-    })
+    obstacles
+        .iter()
+        .filter(|b| !b.interacts)
+        .any(|b| gap(p, half, b) <= 0.0)
+}
+
+/// A scenario's explicit non-interacting bodies (planets, moons, walls),
+/// sorted along x, to find the one a box overlaps among many.
+pub struct Obstacles<'a> {
+    /// Each body's center along x, its index among the explicit bodies,
+    /// and the body; by center.
+    sorted: Vec<(f64, usize, &'a Body)>,
+    /// The largest half width along x of any of them.
+    widest: f64,
+}
+
+impl<'a> Obstacles<'a> {
+    /// The non-interacting ones of `bodies`.
+    pub fn new(bodies: &'a [Body]) -> Self {
+        let mut sorted: Vec<(f64, usize, &Body)> = bodies
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| !b.interacts)
+            .map(|(i, b)| (f64::from(b.position[0]), i, b))
+            .collect();
+        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let widest = sorted
+            .iter()
+            .map(|(_, _, b)| f64::from(b.box_half_extents()[0]))
+            .fold(0.0, f64::max);
+        Self { sorted, widest }
+    }
+
+    /// The index (among the explicit bodies) of a non-interacting body that
+    /// a box of `half` at `p` overlaps (touching is not overlapping).
+    pub fn overlapped(&self, p: DVec3, half: DVec3) -> Option<usize> {
+        let reach = half.x + self.widest;
+        let first = self.sorted.partition_point(|(x, _, _)| *x < p.x - reach);
+        self.sorted[first..]
+            .iter()
+            .take_while(|(x, _, _)| *x <= p.x + reach)
+            .find(|(_, _, b)| gap(p, half, b) < 0.0)
+            .map(|(_, i, _)| *i)
+    }
+}
+
+/// A shell's body would start inside a non-interacting body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StartsInside {
+    /// Index of the body within its generator.
+    pub body: u64,
+    /// Index of the non-interacting body among the explicit ones.
+    pub obstacle: usize,
 }
 
 /// A cloud's body could not be placed outside the non-interacting bodies.
@@ -79,15 +135,19 @@ pub fn cloud(
 }
 
 /// Appends `shell.count` bodies on near-circular orbits around `source`
-/// (circular speed from its mass alone), with ids from `first_id`.
+/// (circular speed from its mass alone), with ids from `first_id`. Errors
+/// when a body would start inside one of the `obstacles` (its `source`
+/// among them: the scenario's check refuses radii that reach into it).
 pub fn shell(
     shell: &Shell,
     rng: &mut Rng,
     first_id: u64,
     source: &Body,
+    obstacles: &Obstacles<'_>,
     gravitational_constant: f32,
     out: &mut Vec<BodyState>,
-) {
+) -> Result<(), StartsInside> {
+    let half = DVec3::from_array(shell.body.half_extents.map(f64::from));
     let center = DVec3::from_array(source.position.map(f64::from));
     let center_velocity = DVec3::from_array(source.velocity.map(f64::from));
     let gm = f64::from(gravitational_constant) * f64::from(source.mass);
@@ -107,8 +167,13 @@ pub fn shell(
             speed = -speed;
         }
         let velocity = center_velocity + normal.cross(radial) * speed;
-        out.push(body_state(first_id + i, center + radial * r, velocity, &shell.body));
+        let position = center + radial * r;
+        if let Some(obstacle) = obstacles.overlapped(position, half) {
+            return Err(StartsInside { body: i, obstacle });
+        }
+        out.push(body_state(first_id + i, position, velocity, &shell.body));
     }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -206,7 +271,17 @@ mod tests {
             body: Template::default(),
         };
         let mut out = Vec::new();
-        shell(&s, &mut Rng::new(9), 1, &planet(), 2.0, &mut out);
+        let bodies = [planet()];
+        shell(
+            &s,
+            &mut Rng::new(9),
+            1,
+            &planet(),
+            &Obstacles::new(&bodies),
+            2.0,
+            &mut out,
+        )
+        .unwrap();
         for b in &out {
             let (p, v) = (b.position, b.velocity);
             let r = p.length();

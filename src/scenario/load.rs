@@ -3,12 +3,12 @@
 
 use std::path::Path;
 
-use bevy::math::Vec3;
+use bevy::math::{DVec3, Vec3};
 use ron::extensions::Extensions;
 
 use super::checked::{MAX_BODIES, MAX_ID};
-use super::format::{Generator, Scenario, Shape, Shell};
-use super::generators;
+use super::format::{Body, Generator, Scenario, Shape, Shell};
+use super::generators::{self, Obstacles};
 use super::start::check_start;
 use crate::components::{BodyId, BodyState};
 use crate::input::{InputError, parse_ron, read_text};
@@ -44,6 +44,7 @@ impl Scenario {
             }
         }
         self.check_shapes()?;
+        self.check_places()?;
         self.check_ids()?;
         let total = self.body_count();
         if total > MAX_BODIES {
@@ -72,6 +73,35 @@ impl Scenario {
                 &self.origin,
                 format!("field `bodies[{i}].shape`: {problem}"),
             ));
+        }
+        Ok(())
+    }
+
+    /// No interacting explicit body starts overlapping a non-interacting one
+    /// (a cube inside a planet would be put out at its surface by the first
+    /// update, with whatever speed it had). A saved state (`next_id` set, as
+    /// every snapshot has it) is exempt: a body its last update left
+    /// overlapping a planet — a fragment made at the surface — is put out by
+    /// the next update, as it would have been in the run it was saved from.
+    fn check_places(&self) -> Result<(), InputError> {
+        if self.next_id.is_some() {
+            return Ok(());
+        }
+        let obstacles = Obstacles::new(&self.bodies);
+        for (i, body) in self.bodies.iter().enumerate().filter(|(_, b)| b.interacts) {
+            let p = DVec3::from_array(body.position.map(f64::from));
+            let half = DVec3::from_array(body.box_half_extents().map(f64::from));
+            if let Some(j) = obstacles.overlapped(p, half) {
+                let [x, y, z] = body.position;
+                return Err(InputError::new(
+                    &self.origin,
+                    format!(
+                        "field `bodies[{i}].position`: must be outside bodies[{j}] ({}), which does not interact: \
+                         an interacting body there is put out at its surface by the first update, got ({x}, {y}, {z})",
+                        self.bodies[j].described()
+                    ),
+                ));
+            }
         }
         Ok(())
     }
@@ -174,6 +204,23 @@ impl Scenario {
                     shell.around, b.role
                 ),
             )),
+            Some(b) if !b.interacts => {
+                let least = shell_clearance(b, shell.body.half_extents);
+                if shell.inner_radius < least {
+                    Err((
+                        "inner_radius",
+                        format!(
+                            "must be at least {least} so that no body starts inside bodies[{}] ({}, which does \
+                             not interact: its size plus a shell body's half diagonal), got {}",
+                            shell.around,
+                            b.described(),
+                            shell.inner_radius
+                        ),
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
             Some(_) => Ok(()),
         }
     }
@@ -212,6 +259,7 @@ impl Scenario {
             }
         }));
         let mut first_id = self.first_generated_id();
+        let obstacles = Obstacles::new(&self.bodies);
         for (i, generator) in self.generators.iter().enumerate() {
             let mut rng = Rng::stream(self.physics.seed, i as u64);
             match generator {
@@ -224,15 +272,46 @@ impl Scenario {
                         &mut rng,
                         first_id,
                         &self.bodies[s.around],
+                        &obstacles,
                         self.physics.gravitational_constant,
                         &mut out,
-                    );
+                    )
+                    .map_err(|e| {
+                        InputError::new(
+                            &self.origin,
+                            format!(
+                                "generators[{i}] (Shell): body {} of the shell would start inside bodies[{}] ({}), \
+                                 which does not interact; keep the shell's radii clear of it",
+                                e.body,
+                                e.obstacle,
+                                self.bodies[e.obstacle].described()
+                            ),
+                        )
+                    })?;
                 }
             }
             first_id += generator.count();
         }
         check_start(&out, &self.settings()).map_err(|e| InputError::new(&self.origin, e))?;
         Ok(out)
+    }
+}
+
+/// The smallest orbit radius at which no box of `half` (a shell's body, in
+/// any direction) overlaps `around`: a ball's radius plus the box's half
+/// diagonal; for a box, the half diagonal of the two boxes' reach. Rounded
+/// up to the next `f32`, so that the radius the message says is allowed.
+fn shell_clearance(around: &Body, half: [f32; 3]) -> f32 {
+    let half = DVec3::from_array(half.map(f64::from));
+    let least = match around.shape {
+        Shape::Sphere { radius } => f64::from(radius) + half.length(),
+        Shape::Box => (DVec3::from_array(around.box_half_extents().map(f64::from)) + half).length(),
+    };
+    let rounded = least as f32;
+    if f64::from(rounded) < least {
+        rounded.next_up()
+    } else {
+        rounded
     }
 }
 

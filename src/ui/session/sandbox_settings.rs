@@ -237,12 +237,19 @@ impl std::fmt::Display for OutOfRange {
     }
 }
 
+/// `value` as a settings file writes it, on one line: `Tree(theta: NaN)`,
+/// `Some(5000000)`, `2.5`.
+fn as_written<T: Serialize>(value: &T) -> String {
+    let one_line = ron::ser::PrettyConfig::new().depth_limit(0);
+    ron::ser::to_string_pretty(value, one_line).unwrap_or_else(|e| format!("(not writable: {e})"))
+}
+
 /// Collects the fields [`SandboxSettings::sanitize`] replaces.
 struct Fixes(Vec<OutOfRange>);
 
 impl Fixes {
     /// Replaces `value` by what `fix` gives for it, if anything, noting it.
-    fn check<T: std::fmt::Debug>(
+    fn check<T: Serialize>(
         &mut self,
         field: &'static str,
         value: &mut T,
@@ -254,9 +261,9 @@ impl Fixes {
         };
         self.0.push(OutOfRange {
             field,
-            found: format!("{value:?}"),
+            found: as_written(value),
             allowed: allowed.to_owned(),
-            used: format!("{used:?}"),
+            used: as_written(&used),
         });
         *value = used;
     }
@@ -521,6 +528,25 @@ mod tests {
             )
         );
         assert!(settings.sanitize().is_empty(), "sanitized settings stay as they are");
+    }
+
+    #[test]
+    fn a_value_out_of_range_is_shown_as_the_file_writes_it() {
+        let mut settings = SandboxSettings {
+            gravity_method: GravityMethod::Tree { theta: f32::NAN },
+            body_count: Some(MAX_BODY_COUNT + 1),
+            ..SandboxSettings::default()
+        };
+        let texts: Vec<String> = settings.sanitize().iter().map(ToString::to_string).collect();
+        for said in [
+            "body_count Some(2000001) is out of range (None or Some(0 to 2000000)), using Some(2000000)".to_owned(),
+            format!(
+                "gravity_method Tree(theta: NaN) is out of range ({}), using Auto",
+                SETTINGS.iter().find(|s| s.key == "gravity").unwrap().rule
+            ),
+        ] {
+            assert!(texts.contains(&said), "{said:?} not in {texts:?}");
+        }
     }
 
     #[test]

@@ -1,11 +1,14 @@
 //! What the window starts with: the checks made before it opens, the saved
 //! settings, the command line's overrides, and the first scenario.
 
+use std::path::Path;
+
 use super::sandbox_settings::SandboxSettings;
 use super::settings_file::{SettingsFile, default_settings_path};
 use super::window_options::{WindowError, WindowOptions};
-use crate::output::{check_extension, check_new};
+use crate::output::{Output, check_extension, check_not_inputs, check_outputs};
 use crate::scenario::Scenario;
+use crate::user_files::default_calibration_path;
 
 /// What the window starts with.
 pub struct Start {
@@ -22,7 +25,7 @@ impl Start {
     /// path, the display), then reads the settings and the scenario (see
     /// [`Self::read`]).
     pub fn from_options(options: &WindowOptions) -> Result<Self, WindowError> {
-        check_screenshot(options)?;
+        check_outputs_of(options)?;
         check_display()?;
         Self::read(options)
     }
@@ -85,15 +88,38 @@ impl Start {
 }
 
 /// A screenshot must be a new `.png` file in an existing folder; a frame
-/// report a new file.
-fn check_screenshot(options: &WindowOptions) -> Result<(), WindowError> {
+/// report a new file; neither of them, nor the settings file (which the
+/// window writes when a setting changes), is a file the window reads: the
+/// scenario named, the settings, the split calibration.
+fn check_outputs_of(options: &WindowOptions) -> Result<(), WindowError> {
+    let settings = options.settings.clone().unwrap_or_else(default_settings_path);
+    let calibration = default_calibration_path();
+    let mut inputs: Vec<(&str, &Path)> = Vec::new();
+    if let Some(scenario) = &options.scenario {
+        inputs.push(("the scenario", scenario));
+    }
+    inputs.push(("the split calibration", &calibration));
+    // Saved through a link if it is one, so checked against the inputs
+    // only.
+    check_not_inputs(&[("--settings", &settings)], &inputs)?;
+    inputs.push(("the window's settings", &settings));
+    let mut outputs = Vec::new();
     if let Some(path) = &options.screenshot {
         check_extension("--screenshot", path, "png")?;
-        check_new("--screenshot", path, "screenshots never overwrite, choose another name")?;
+        outputs.push(Output::new_only(
+            "--screenshot",
+            path,
+            "screenshots never overwrite, choose another name",
+        ));
     }
     if let Some(path) = &options.frame_report {
-        check_new("--frame-report", path, "reports never overwrite, choose another name")?;
+        outputs.push(Output::new_only(
+            "--frame-report",
+            path,
+            "reports never overwrite, choose another name",
+        ));
     }
+    check_outputs(&outputs, &inputs)?;
     Ok(())
 }
 
@@ -116,6 +142,40 @@ mod tests {
     use super::*;
     use crate::draw_method::DrawMethod;
     use crate::execution::ExecutionMode;
+
+    #[test]
+    fn no_output_of_the_window_is_a_file_it_reads() {
+        let dir = tempfile::tempdir().unwrap();
+        let scenario = dir.path().join("scen.ron");
+        std::fs::write(&scenario, "Scenario()").unwrap();
+        let settings = dir.path().join("settings.ron");
+        let new = dir.path().join("new.png");
+        let with = |screenshot: &Path, frame_report: &Path, settings_file: &Path| WindowOptions {
+            scenario: Some(scenario.clone()),
+            settings: Some(settings_file.to_owned()),
+            screenshot: Some(screenshot.to_owned()),
+            frame_report: Some(frame_report.to_owned()),
+            ..WindowOptions::default()
+        };
+        let report = dir.path().join("report.txt");
+        assert!(check_outputs_of(&with(&new, &report, &settings)).is_ok());
+        for (options, needle) in [
+            (with(&new, &report, &scenario), "--settings"),
+            (with(&new, &scenario, &settings), "--frame-report"),
+            (
+                with(&new, &settings, &settings),
+                "is the window's settings this command reads",
+            ),
+            (with(&new, &new, &settings), "--screenshot names the same file"),
+        ] {
+            let e = check_outputs_of(&options).unwrap_err().to_string();
+            assert!(e.contains(needle), "{e}");
+        }
+        let e = check_outputs_of(&with(&new, &report, &scenario))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("is the scenario this command reads"), "{e}");
+    }
 
     #[test]
     fn one_run_choices_are_never_saved_but_the_users_changes_are() {
