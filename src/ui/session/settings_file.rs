@@ -69,7 +69,14 @@ pub fn load_settings(path: &Path) -> (SandboxSettings, Option<SandboxSettings>, 
     match parse_ron::<SandboxSettings>(&text, &path.display().to_string(), Extensions::empty()) {
         Ok(mut settings) => {
             let as_read = settings.clone();
-            let fixed = settings.sanitize();
+            let mut fixed = settings.sanitize();
+            // A number beyond f32's range was read as infinite: say it as
+            // the file writes it.
+            for fix in fixed.iter_mut().filter(|f| f.found.ends_with("inf")) {
+                if let Some(written) = written_number(&text, fix.field) {
+                    fix.found = written;
+                }
+            }
             let warning = (!fixed.is_empty()).then(|| {
                 let fixed: Vec<String> = fixed.iter().map(ToString::to_string).collect();
                 format!(
@@ -84,6 +91,18 @@ pub fn load_settings(path: &Path) -> (SandboxSettings, Option<SandboxSettings>, 
             let warning = format!("{e}; using default settings (the file is kept until you change a setting)");
             (SandboxSettings::default(), None, Some(warning))
         }
+    }
+}
+
+/// The number the field `field` of the settings file's `text` holds, as
+/// written (at full width, where an `f32` took it as infinite).
+fn written_number(text: &str, field: &str) -> Option<String> {
+    let ron::Value::Map(map) = ron::from_str::<ron::Value>(text).ok()? else {
+        return None;
+    };
+    match map.get(&ron::Value::String(field.to_owned()))? {
+        ron::Value::Number(n) => Some(crate::input::shown_number(n.into_f64())),
+        _ => None,
     }
 }
 
@@ -327,6 +346,19 @@ mod tests {
         ] {
             assert!(warning.contains(said), "{said:?} not in {warning}");
         }
+    }
+
+    #[test]
+    fn numbers_beyond_f32_are_named_as_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("settings.ron");
+        std::fs::write(&path, "SandboxSettings(speed: 1e39, shatter_threshold: -3e40)").unwrap();
+        let (settings, _, warning) = load_settings(&path);
+        assert_eq!((settings.speed, settings.shatter_threshold), (8.0, 3.0));
+        let warning = warning.unwrap();
+        assert!(warning.contains("speed 1e39 is out of range"), "{warning}");
+        assert!(warning.contains("shatter_threshold -3e40 is out of range"), "{warning}");
+        assert!(!warning.contains("inf"), "{warning}");
     }
 
     /// Opens `text` as a settings file, as the window does: the settings at
