@@ -154,7 +154,7 @@ impl Scenario {
             format!(
                 "the {generated} generated bodies would be numbered from {first} to {}, past the largest id, {} \
                  (2^62 - 1)",
-                first.saturating_add(generated - 1),
+                first.saturating_add(generated.saturating_sub(1)),
                 MAX_ID - 1
             )
         })
