@@ -9,7 +9,7 @@ mod settings;
 pub use body_ids::{MAX_ID, NextBodyId};
 pub use gravity_method::{AUTO_TREE_FROM, BadGravityMethod, DEFAULT_THETA, GravityMethod, MAX_THETA};
 pub use memory_budget::{MemoryBudget, gigabytes};
-pub use setting_value::{SettingValue, problem, read_checked};
+pub use setting_value::{SettingValue, problem};
 pub use settings::{
     Applies, MAX_BODIES, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_LENGTH, MAX_TIME_STEP, SETTINGS, SettingInfo,
     SimulationSettings, check, read, setting, unknown_setting,

@@ -8,15 +8,10 @@ use serde::de::{Deserializer, Error};
 use serde::{Deserialize, Serialize};
 
 use super::GravityMethod;
-use crate::input::{f32_where, read, shown_number, whole};
+use crate::input::{f32_where, shown_number, whole};
 
 /// A physics setting's type.
 pub trait SettingValue: Copy + PartialEq + Debug + Serialize + for<'de> Deserialize<'de> {
-    /// Reads a value of this type, naming `field` if it is of the wrong
-    /// type; `rule` is the setting's rule, which a whole number's message
-    /// repeats.
-    fn read<'de, D: Deserializer<'de>>(d: D, field: &str, rule: &str) -> Result<Self, D::Error>;
-
     /// Whether the value is usable at all, whatever the setting's rule: a
     /// number must be finite.
     fn sound(&self) -> bool {
@@ -26,26 +21,18 @@ pub trait SettingValue: Copy + PartialEq + Debug + Serialize + for<'de> Deserial
     /// The value as a message shows it (`got …`).
     fn shown(&self) -> String;
 
-    /// Reads a value and holds it to `ok`: ``field `NAME`: must be RULE,
-    /// got VALUE`` where it fails.
+    /// Reads a value of this type and holds it to `ok`: ``field `NAME`:
+    /// must be RULE, got VALUE`` where it fails, and the field named where
+    /// the value is of the wrong type.
     fn read_checked<'de, D: Deserializer<'de>>(
         d: D,
         field: &str,
         rule: &str,
         ok: impl Fn(Self) -> bool,
-    ) -> Result<Self, D::Error> {
-        let value = Self::read(d, field, rule)?;
-        problem(value, rule, ok).map_or(Ok(value), |problem| {
-            Err(D::Error::custom(format!("field `{field}`: {problem}")))
-        })
-    }
+    ) -> Result<Self, D::Error>;
 }
 
 impl SettingValue for f32 {
-    fn read<'de, D: Deserializer<'de>>(d: D, field: &str, _rule: &str) -> Result<Self, D::Error> {
-        read(d, field)
-    }
-
     /// Read as an `f64` and narrowed once checked, so that a number beyond
     /// `f32`'s range is shown as the file wrote it (`1e39`, not `inf`).
     fn read_checked<'de, D: Deserializer<'de>>(
@@ -69,8 +56,18 @@ impl SettingValue for f32 {
 macro_rules! whole_setting {
     ($($ty:ty),*) => {$(
         impl SettingValue for $ty {
-            fn read<'de, D: Deserializer<'de>>(d: D, field: &str, rule: &str) -> Result<Self, D::Error> {
-                whole(d, field, rule)
+            /// A whole number's message repeats the rule where the value is
+            /// not one of its type (negative, too large, not a number).
+            fn read_checked<'de, D: Deserializer<'de>>(
+                d: D,
+                field: &str,
+                rule: &str,
+                ok: impl Fn(Self) -> bool,
+            ) -> Result<Self, D::Error> {
+                let value: Self = whole(d, field, rule)?;
+                problem(value, rule, ok).map_or(Ok(value), |problem| {
+                    Err(D::Error::custom(format!("field `{field}`: {problem}")))
+                })
             }
 
             fn shown(&self) -> String {
@@ -83,10 +80,6 @@ macro_rules! whole_setting {
 whole_setting!(u32, u64);
 
 impl SettingValue for GravityMethod {
-    fn read<'de, D: Deserializer<'de>>(d: D, field: &str, _rule: &str) -> Result<Self, D::Error> {
-        Self::deserialize(d).map_err(|e| unreadable_method::<D>(field, &e))
-    }
-
     fn shown(&self) -> String {
         match self {
             Self::Auto => "Auto".to_owned(),
@@ -111,7 +104,12 @@ impl SettingValue for GravityMethod {
             Direct,
             Tree { theta: f64 },
         }
-        let (method, shown) = match Wide::deserialize(d).map_err(|e| unreadable_method::<D>(field, &e))? {
+        let wide = Wide::deserialize(d).map_err(|e| {
+            D::Error::custom(format!(
+                "field `{field}`: {e} (write `Auto`, `Direct` or `Tree(theta: 0.5)`)"
+            ))
+        })?;
+        let (method, shown) = match wide {
             Wide::Auto => (Self::Auto, "Auto".to_owned()),
             Wide::Direct => (Self::Direct, "Direct".to_owned()),
             Wide::Tree { theta } => (
@@ -128,24 +126,6 @@ impl SettingValue for GravityMethod {
             )))
         }
     }
-}
-
-/// A gravity method that is not one, with how to write one.
-fn unreadable_method<'de, D: Deserializer<'de>>(field: &str, e: &D::Error) -> D::Error {
-    D::Error::custom(format!(
-        "field `{field}`: {e} (write `Auto`, `Direct` or `Tree(theta: 0.5)`)"
-    ))
-}
-
-/// Reads a `T` and holds it to `ok`: ``field `NAME`: must be RULE, got
-/// VALUE`` where it fails.
-pub fn read_checked<'de, T: SettingValue, D: Deserializer<'de>>(
-    d: D,
-    field: &str,
-    rule: &str,
-    ok: impl Fn(T) -> bool,
-) -> Result<T, D::Error> {
-    T::read_checked(d, field, rule, ok)
 }
 
 /// What is wrong with `value` by `rule` (``must be RULE, got VALUE``), if
@@ -178,19 +158,16 @@ mod tests {
     struct Read(#[serde(deserialize_with = "size")] f32);
 
     fn size<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
-        read_checked(d, "min_fragment_size", "finite and >= 0", |v: f32| v >= 0.0)
+        f32::read_checked(d, "min_fragment_size", "finite and >= 0", |v| v >= 0.0)
     }
 
     #[derive(Debug, serde::Deserialize)]
     struct Method(#[serde(deserialize_with = "method")] GravityMethod);
 
     fn method<'de, D: Deserializer<'de>>(d: D) -> Result<GravityMethod, D::Error> {
-        read_checked(
-            d,
-            "gravity",
-            "Tree(theta: θ) with θ finite from 0 to 2",
-            |v: GravityMethod| v.check().is_ok(),
-        )
+        GravityMethod::read_checked(d, "gravity", "Tree(theta: θ) with θ finite from 0 to 2", |v| {
+            v.check().is_ok()
+        })
     }
 
     #[test]

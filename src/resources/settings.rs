@@ -13,7 +13,7 @@ use serde::de::{Error, MapAccess};
 use serde::ser::SerializeStruct;
 
 use super::GravityMethod;
-use super::setting_value::{SettingValue, problem, read_checked};
+use super::setting_value::{SettingValue, problem};
 
 /// Most bodies one run may hold: about 200 bytes each in memory, so this
 /// bounds a run to a few GiB.
@@ -222,7 +222,7 @@ macro_rules! derive_settings {
             $(
                 #[doc = concat!("Reads `", key!($field $($key)?), "`: ", $rule, ".")]
                 pub fn $field<'de, D: Deserializer<'de>>(d: D) -> Result<$ty, D::Error> {
-                    read_checked(d, key!($field $($key)?), $rule, $ok)
+                    <$ty as SettingValue>::read_checked(d, key!($field $($key)?), $rule, $ok)
                 }
             )*
 
@@ -246,7 +246,7 @@ macro_rules! derive_settings {
                 type Value = T;
 
                 fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<T, D::Error> {
-                    read_checked(d, self.key, self.rule, self.ok)
+                    T::read_checked(d, self.key, self.rule, self.ok)
                 }
             }
         }

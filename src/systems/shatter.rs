@@ -149,9 +149,12 @@ fn shatter(
 ) {
     let clock = stage.start(SimulationSystems::Shatter);
     let count = settings.shatter_fragments;
+    // Only an update that shatters can outgrow the memory.
     let shatters = pending.0.len() as u64;
-    let after = (bodies.iter().len() as u64 - 2 * shatters).saturating_add(shatters * u64::from(count));
-    if let Some(limit) = budget.limit
+    let after = || (bodies.iter().len() as u64 - 2 * shatters).saturating_add(shatters * u64::from(count));
+    if shatters > 0
+        && let Some(limit) = budget.limit
+        && let after = after()
         && after > limit.bodies()
     {
         // Stopped before the allocation that would fail.
