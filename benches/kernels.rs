@@ -7,6 +7,7 @@ use bevy::prelude::*;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use kessler::components::{BodyId, BodyState, GravityRole, Position, Velocity};
 use kessler::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
+use kessler::maths;
 use kessler::resources::GravityMethod;
 use kessler::rng::Rng;
 use kessler::systems::{
@@ -83,7 +84,7 @@ fn gravity_tree(c: &mut Criterion) {
             let direction = DVec3::new(rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0)).normalize_or_zero();
             // Radius from 10 to 20 000, uniform in its logarithm: a density
             // falling as r⁻³, the same number of sources in every octave.
-            let r = 10.0 * 2000f64.powf(rng.range(0.0, 1.0));
+            let r = 10.0 * maths::pow(2000.0, rng.range(0.0, 1.0));
             GravitySource {
                 id: BodyId(i as u64),
                 position: (direction * r).as_vec3().as_dvec3(),
@@ -147,7 +148,7 @@ fn gravity_tree_build(c: &mut Criterion) {
     let mut group = c.benchmark_group("kernel_gravity_tree_build");
     for count in COUNTS {
         let mut rng = Rng::new(3);
-        let edge = 500.0 * (count as f64 / 10_000.0).cbrt();
+        let edge = 500.0 * maths::cbrt(count as f64 / 10_000.0);
         let sources: Vec<GravitySource> = (0..count)
             .map(|i| GravitySource {
                 id: BodyId(i as u64),

@@ -1,11 +1,13 @@
 //! The CSV state dump of `kessler headless --dump` (docs/design.md,
 //! "Command line"): one row per body, sorted by id, floats in Rust's
-//! shortest round-trip form. Written atomically with
+//! shortest round-trip form, then a comment line with the state's hash
+//! (docs/design.md, "State hash"). Written atomically with
 //! [`write_atomically`](crate::output::write_atomically).
 
 use std::io::{self, Write};
 
 use crate::components::BodyState;
+use crate::state_hash::StateHash;
 
 /// One body's row: its columns (the header, a stable contract) and cells
 /// are declared together below.
@@ -27,12 +29,19 @@ crate::csv_row!(DumpRow<'_>, |row| {
     interacts: row.0.interacts,
 });
 
-/// Writes the header and one row per body, in the order given.
-pub fn write_csv(bodies: &[BodyState], out: impl Write) -> io::Result<()> {
+/// Writes the header, one row per body (sorted by id) and, last, a
+/// comment line with the state's hash (`# state hash 0123456789abcdef`),
+/// which readers skip as they skip every line that starts with `#`.
+pub fn write_csv(bodies: &[BodyState], next_id: u64, mut out: impl Write) -> io::Result<()> {
     BodyState::check_all_finite(bodies)?;
     let rows: Vec<DumpRow<'_>> = bodies.iter().map(DumpRow).collect();
-    crate::output::write_csv(out, &rows)
+    crate::output::write_csv(&mut out, &rows)?;
+    writeln!(out, "{}{}", HASH_LINE, StateHash::of(bodies, next_id))?;
+    out.flush()
 }
+
+/// How the dump's last line starts, before the hash.
+pub const HASH_LINE: &str = "# state hash ";
 
 #[cfg(test)]
 mod tests {
@@ -56,11 +65,14 @@ mod tests {
             spherical: true,
         };
         let mut out = Vec::new();
-        write_csv(&[body], &mut out).unwrap();
+        write_csv(&[body], 4, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert_eq!(
             text,
-            "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts\n3,0.1,-2,0.0000001,0.81694555,0,-0,4000,430,430,430,SourceAndAdopter,false\n"
+            format!(
+                "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts\n3,0.1,-2,0.0000001,0.81694555,0,-0,4000,430,430,430,SourceAndAdopter,false\n# state hash {}\n",
+                StateHash::of(&[body], 4)
+            )
         );
         assert_eq!(
             header::<DumpRow<'_>>(),

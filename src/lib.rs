@@ -11,12 +11,14 @@ pub mod draw_method;
 pub mod dump;
 pub mod execution;
 pub mod input;
+pub mod maths;
 pub mod memory_limit;
 pub mod output;
 pub mod resources;
 pub mod rng;
 pub mod scenario;
 pub mod simulation;
+pub mod state_hash;
 pub mod systems;
 pub mod timeline;
 #[cfg(feature = "gui")]

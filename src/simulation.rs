@@ -8,6 +8,7 @@ use crate::execution::Execution;
 use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::Scenario;
+use crate::state_hash::StateHash;
 use crate::systems::{
     CollisionStats, SimulationFault, SimulationPlugins, StageTimings, Totals, first_non_finite, run_updates,
 };
@@ -110,6 +111,14 @@ impl Simulation {
         bodies
     }
 
+    /// The hash of the state now (its bodies and next id).
+    pub fn state_hash(&mut self) -> StateHash {
+        let next_id = self.next_body_id();
+        let world = self.app.world_mut();
+        let mut query = world.query::<BodyStateQuery>();
+        StateHash::of_unordered(query.iter(world).map(BodyState::from_components), next_id)
+    }
+
     /// Mass, kinetic energy and momentum of all bodies now.
     pub fn totals(&mut self) -> Totals {
         let world = self.app.world_mut();
@@ -198,7 +207,7 @@ mod tests {
             );
             let state = sim.snapshot();
             assert!(
-                crate::dump::write_csv(&state, Vec::new()).is_err(),
+                crate::dump::write_csv(&state, 0, Vec::new()).is_err(),
                 "the dump writes it"
             );
         }

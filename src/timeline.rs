@@ -1,12 +1,13 @@
 //! The record of a run (`kessler headless ... --timeline FILE [--every
 //! K]`): a CSV row every K updates with the body count, what collisions
-//! did, and the totals the physics conserves. The window's HUD and panel
+//! did, the totals the physics conserves, and the state's hash. The window's HUD and panel
 //! show the same numbers ([`Totals`], [`CollisionStats`](crate::systems::CollisionStats)). Written
 //! atomically, like the dump.
 
 use std::io::{self, Write};
 
 use crate::Simulation;
+use crate::state_hash::StateHash;
 use crate::systems::Totals;
 
 /// One row: the state after `update` updates.
@@ -22,6 +23,9 @@ pub struct TimelineRow {
     pub refused_shatters: u64,
     /// Bodies, mass, kinetic energy and momentum now.
     pub totals: Totals,
+    /// The state's hash now (the last column, after those that came
+    /// before it).
+    pub state_hash: StateHash,
 }
 
 // The columns (the header, a stable contract) and cells of a row.
@@ -36,6 +40,7 @@ crate::csv_row!(TimelineRow, |r| {
     momentum_x: r.totals.momentum.x,
     momentum_y: r.totals.momentum.y,
     momentum_z: r.totals.momentum.z,
+    state_hash: r.state_hash,
 });
 
 /// Rows taken every `every` updates, and after the last.
@@ -78,6 +83,7 @@ impl Timeline {
             shatters: stats.shatters_total - shatters,
             refused_shatters: stats.refused_total - refused,
             totals: sim.totals(),
+            state_hash: sim.state_hash(),
         });
         self.counted = (stats.shatters_total, stats.refused_total);
     }

@@ -131,6 +131,23 @@ fn writes_results_passes_overhead_machine_and_plot() {
     ] {
         assert!(machine.contains(key), "{key} missing: {machine}");
     }
+    // The reference run's hash is the hash of that run on the command line.
+    let headless = kessler()
+        .args([
+            "headless",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/collapse.ron"),
+        ])
+        .args(["--steps", "50", "--mode", "parallel"])
+        .output()
+        .unwrap();
+    let summary = String::from_utf8(headless.stdout).unwrap();
+    let (_, hash) = summary.trim_end().rsplit_once("state hash ").unwrap();
+    assert!(
+        machine.contains(&format!(
+            "reference state hash: {hash} (scenarios/collapse.ron, 50 updates"
+        )),
+        "{machine}"
+    );
     // Split on one thread never has a second thread to gain from, but the
     // crossover of the one count is reported all the same.
     let crossover = std::fs::read_to_string(dir.path().join("tiny-results-crossover.csv")).unwrap();

@@ -76,6 +76,52 @@ fn headless_dump_has_the_contract_format() {
     assert_eq!(x.round(), 20.0, "one revolution brings the body back to x = 20");
     // Shortest round-trip: printing the parsed value gives the same text.
     assert_eq!(x.to_string(), body[1]);
+    // The last line is the summary's state hash, as a comment.
+    assert_eq!(rows.len(), 4, "{csv}");
+    assert_eq!(rows[3], format!("# state hash {}", summary_hash(&summary)));
+}
+
+/// The state hash a summary line ends with.
+fn summary_hash(summary: &str) -> String {
+    let (_, hash) = summary.trim_end().rsplit_once("; state hash ").expect("a hash");
+    assert!(
+        hash.len() == 16 && hash.chars().all(|c| c.is_ascii_hexdigit()),
+        "{hash}"
+    );
+    hash.to_owned()
+}
+
+/// The summary, the dump and the snapshot give one hash; the snapshot
+/// loaded and run for no update gives it again (what a snapshot leaves out,
+/// the previous positions, is not part of the state), and 40 updates from
+/// it give the hash of the straight 100.
+#[test]
+fn the_state_hash_is_one_in_every_output_and_continues_with_the_snapshot() {
+    let dir = tempfile::tempdir().unwrap();
+    let (dump, saved) = (dir.path().join("state.csv"), dir.path().join("saved.ron"));
+    let run = |scene: &str, steps: &str, extra: &[&std::path::Path]| {
+        let mut command = kessler();
+        command.args(["headless", scene, "--steps", steps]);
+        for (flag, path) in ["--dump", "--save-scenario"].iter().zip(extra) {
+            command.arg(flag).arg(path);
+        }
+        let out = command.output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        summary_hash(&String::from_utf8(out.stdout).unwrap())
+    };
+    let collapse = scenario("collapse.ron");
+    let at_60 = run(&collapse, "60", &[&dump, &saved]);
+    let dumped = std::fs::read_to_string(&dump).unwrap();
+    assert!(dumped.ends_with(&format!("\n# state hash {at_60}\n")), "{dumped:.200}");
+    let snapshot = std::fs::read_to_string(&saved).unwrap();
+    assert_eq!(
+        snapshot.lines().nth(1).unwrap(),
+        format!("// State hash {at_60} (docs/design.md, \"State hash\")."),
+    );
+    let saved = saved.to_str().unwrap();
+    assert_eq!(run(saved, "0", &[]), at_60);
+    assert_eq!(run(saved, "40", &[]), run(&collapse, "100", &[]));
+    assert_ne!(at_60, run(&collapse, "100", &[]));
 }
 
 /// Without the `gui` feature, `kessler` simulates headless instead of

@@ -1,8 +1,9 @@
-//! Sequential and parallel execution give bit-identical state.
+//! Sequential and parallel execution give bit-identical state, at every
+//! thread count and split.
 
 use kessler::Simulation;
 use kessler::components::BodyState;
-use kessler::execution::{Execution, ExecutionMode};
+use kessler::execution::{Execution, ExecutionMode, SplitPolicy};
 use kessler::scenario::Scenario;
 
 fn run(text: &str, mode: ExecutionMode, threads: usize, updates: u64) -> Vec<BodyState> {
@@ -128,4 +129,28 @@ fn collapse_is_bit_identical(gravity: &str, count: usize) -> usize {
         assert!(bits(&sequential) == bits(&parallel), "{threads} threads differ");
     }
     sequential.len()
+}
+
+/// A shattering collapse under tree gravity: thread counts 1, 2, 3 and 7
+/// and splits `Always`, `Auto` and a number give one state hash,
+/// sequential's.
+#[test]
+fn one_hash_for_every_thread_count_and_split() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/collapse.ron");
+    let scenario = Scenario::load(std::path::Path::new(path)).unwrap();
+    let hash = |execution: Execution| {
+        let mut sim = Simulation::from_scenario(&scenario, execution).unwrap();
+        sim.step(40);
+        assert!(sim.collision_stats().shatters_total > 100, "the collapse shatters");
+        sim.state_hash()
+    };
+    let sequential = hash(Execution::new(ExecutionMode::Sequential, 1).unwrap());
+    for threads in [1, 2, 3, 7] {
+        for split in [SplitPolicy::Always, SplitPolicy::Auto, SplitPolicy::Above(100)] {
+            let execution = Execution::new(ExecutionMode::Parallel, threads)
+                .unwrap()
+                .with_split(split);
+            assert_eq!(hash(execution), sequential, "{threads} threads, split {split}");
+        }
+    }
 }

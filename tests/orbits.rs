@@ -110,7 +110,7 @@ fn eccentric_orbit_energy_stays_bounded() {
     // Analytic: E = v²/2 − GM/r, a = −GM/(2E), T = 2π·sqrt(a³/GM).
     let e0 = v0 * v0 / 2.0 - gm / r0;
     let a = -gm / (2.0 * e0);
-    let period_updates = (std::f64::consts::TAU * (a.powi(3) / gm).sqrt() / dt).round() as u64;
+    let period_updates = (std::f64::consts::TAU * (a * a * a / gm).sqrt() / dt).round() as u64;
     let orbits = 60;
     let mut energies = Vec::new();
     for _ in 0..orbits * period_updates {
@@ -160,7 +160,7 @@ fn a_virialised_cluster_keeps_its_energy_under_the_tree() {
         let mut pe = 0.0;
         for i in 0..ps.len() {
             for j in i + 1..ps.len() {
-                let r2: f64 = (0..3).map(|k| (ps[i][k] - ps[j][k]).powi(2)).sum();
+                let r2: f64 = (0..3).map(|k| (ps[i][k] - ps[j][k]) * (ps[i][k] - ps[j][k])).sum();
                 pe -= g / (r2 + softening * softening).sqrt();
             }
         }

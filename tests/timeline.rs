@@ -9,10 +9,10 @@ fn kessler() -> Command {
 }
 
 const HEADER: &str =
-    "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z";
+    "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,state_hash";
 
-/// Runs `headless` with a timeline; returns the rows (as numbers) and the
-/// summary line.
+/// Runs `headless` with a timeline; returns the rows (as numbers, the state
+/// hash left out) and the summary line, whose state hash is the last row's.
 fn timeline(scenario: &str, steps: &str, every: Option<&str>) -> (Vec<Vec<f64>>, String) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("timeline.csv");
@@ -28,10 +28,30 @@ fn timeline(scenario: &str, steps: &str, every: Option<&str>) -> (Vec<Vec<f64>>,
     let text = std::fs::read_to_string(&path).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some(HEADER));
+    let mut hashes = Vec::new();
     let rows = lines
-        .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect::<Vec<f64>>())
+        .map(|l| {
+            let (numbers, hash) = l.rsplit_once(',').unwrap();
+            assert!(
+                hash.len() == 16 && hash.chars().all(|c| c.is_ascii_hexdigit()),
+                "{hash}"
+            );
+            hashes.push(hash.to_owned());
+            numbers
+                .split(',')
+                .map(|v| v.parse::<f64>().unwrap())
+                .collect::<Vec<f64>>()
+        })
         .collect();
-    (rows, String::from_utf8(out.stdout).unwrap())
+    let summary = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        summary
+            .trim_end()
+            .ends_with(&format!("state hash {}", hashes.last().unwrap())),
+        "{summary}"
+    );
+    assert_ne!(hashes.first(), hashes.last(), "the state moved");
+    (rows, summary)
 }
 
 /// The number before `word` in the summary line.
@@ -53,7 +73,7 @@ fn a_row_every_k_updates_and_mass_kept_through_the_cascade() {
     let updates: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     let expected: Vec<f64> = (0..10).map(|k| f64::from(k) * 10.0).chain([95.0]).collect();
     assert_eq!(updates, expected, "a row at 0, every 10 updates, and after the last");
-    assert!(rows.iter().all(|r| r.len() == 10));
+    assert!(rows.iter().all(|r| r.len() == 10), "ten numbers and the hash a row");
     let shatters: f64 = rows.iter().map(|r| r[3]).sum();
     assert_eq!(shatters, summary_count(&summary, " shatters"), "{summary}");
     assert!(shatters > 500.0, "shattering happened: {shatters}");

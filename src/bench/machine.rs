@@ -3,12 +3,39 @@
 
 use std::fmt::Write as _;
 
-use crate::execution::available_threads;
+use crate::Simulation;
+use crate::execution::{Execution, ExecutionMode, available_threads};
+use crate::scenario::Scenario;
 use crate::systems::Kernel;
+
+/// The reference run whose state hash the report gives: a collapse under
+/// tree gravity that shatters, so that two machines whose hashes agree
+/// compute the gravity kernels, the shatters and the maths alike.
+const REFERENCE: &str = include_str!("../../scenarios/collapse.ron");
+
+/// Updates of the reference run.
+const REFERENCE_UPDATES: u64 = 50;
+
+/// The state hash of the reference run, and what it is.
+pub fn reference_hash() -> String {
+    let scenario =
+        Scenario::parse(REFERENCE, "scenarios/collapse.ron (built in)").expect("a shipped scenario (tested)");
+    let execution = Execution::new(ExecutionMode::Sequential, 1).expect("one thread");
+    match Simulation::from_scenario(&scenario, execution) {
+        Ok(mut sim) => {
+            sim.step(REFERENCE_UPDATES);
+            format!(
+                "{} (scenarios/collapse.ron, {REFERENCE_UPDATES} updates; equal hashes: this machine computes as that one)",
+                sim.state_hash()
+            )
+        }
+        Err(e) => format!("unknown ({e})"),
+    }
+}
 
 /// A `key: value` line per fact: CPU model, cores and threads, memory, OS,
 /// rustc, Kessler's version and commit, the gravity kernel the processor
-/// runs, the date (UTC), and the command.
+/// runs, the reference run's state hash, the date (UTC), and the command.
 pub fn machine_report(command: &str) -> String {
     let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
     let mut out = String::new();
@@ -32,6 +59,7 @@ pub fn machine_report(command: &str) -> String {
         format!("{} (commit {})", env!("CARGO_PKG_VERSION"), env!("KESSLER_GIT_COMMIT")),
     );
     line("gravity kernel", Kernel::best().name().to_owned());
+    line("reference state hash", reference_hash());
     line(
         "profile",
         if cfg!(debug_assertions) { "debug" } else { "release" }.to_owned(),
@@ -157,6 +185,7 @@ mod tests {
             "os:",
             "rustc:",
             "kessler:",
+            "reference state hash:",
             "date:",
             "command: kessler bench x.ron",
         ] {

@@ -76,6 +76,7 @@ fn dash(k: usize) -> (u32, u32) {
 
 /// The decades `10^lo..10^hi` that hold every positive value (1..10 if
 /// there is none).
+#[expect(clippy::disallowed_methods, reason = "a plot's axis, not the state")]
 fn decades(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| *v > 0.0) {

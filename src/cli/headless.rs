@@ -13,6 +13,7 @@ use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads}
 use crate::output::{Output, WriteError, check_outputs, commit_all, printable, stage};
 use crate::resources::MemoryBudget;
 use crate::scenario::{Scenario, Snapshot, beyond_a_scenario, write_snapshot};
+use crate::state_hash::StateHash;
 use crate::systems::SimulationSystems;
 use crate::timeline::Timeline;
 use crate::user_files::default_calibration_path;
@@ -80,7 +81,7 @@ pub struct Outputs<'a> {
 }
 
 /// Runs `updates` updates of `scenario` with a progress bar on a terminal,
-/// prints a one-line summary, and writes the dump, the timeline and the
+/// prints a one-line summary ending with the state's hash, and writes the dump, the timeline and the
 /// snapshot if asked: all of them, or none.
 pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs: Outputs<'_>) -> Result<(), Failure> {
     let dump_path = outputs.dump;
@@ -111,12 +112,10 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         return Err(Failure::stopped(format!("{}: {fault}", scenario.origin)));
     }
 
-    // The final state, gathered once for whichever outputs want it.
-    let bodies = if dump_path.is_some() || outputs.scenario.is_some() {
-        sim.snapshot()
-    } else {
-        Vec::new()
-    };
+    // The final state, gathered once for its hash and the outputs.
+    let bodies = sim.snapshot();
+    let next_id = sim.next_body_id();
+    let hash = StateHash::of(&bodies, next_id);
     // A state a scenario cannot hold stops the run like a fault, before any
     // output is touched.
     if outputs.scenario.is_some()
@@ -133,7 +132,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
     let failed = |flag: &str, e: WriteError| Failure::other(format!("{flag} {e}; no output was written"));
     let mut staged = Vec::new();
     if let Some(path) = dump_path {
-        staged.push(stage(path, |w| dump::write_csv(&bodies, w)).map_err(|e| failed("--dump", e))?);
+        staged.push(stage(path, |w| dump::write_csv(&bodies, next_id, w)).map_err(|e| failed("--dump", e))?);
     }
     if let (Some((path, _)), Some(timeline)) = (outputs.timeline, &timeline) {
         staged.push(stage(path, |w| timeline.write_csv(w)).map_err(|e| failed("--timeline", e))?);
@@ -144,7 +143,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
             updates,
             settings: sim.settings(),
             bodies: &bodies,
-            next_id: sim.next_body_id(),
+            next_id,
         };
         staged.push(stage(path, |w| write_snapshot(&snapshot, w)).map_err(|e| failed("--save-scenario", e))?);
     }
@@ -160,7 +159,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         .map(|&stage| format!("{} {:.3}", stage.name(), timings.stage(stage).mean_ns / 1e6))
         .collect();
     let summary = format!(
-        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}",
+        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}; state hash {hash}",
         scenario.name,
         updates,
         bodies_start,

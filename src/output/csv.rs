@@ -102,9 +102,10 @@ pub struct CsvTable {
 }
 
 impl CsvTable {
-    /// Reads `text` as a file of `R` rows.
+    /// Reads `text` as a file of `R` rows, skipping comment lines (those
+    /// that start with `#`, as the dump's state hash).
     pub fn parse<R: CsvRow>(text: &str) -> Result<Self, String> {
-        let mut lines = text.lines();
+        let mut lines = text.lines().filter(|line| !line.starts_with('#'));
         let columns = R::columns();
         let found = lines.next().ok_or("the file is empty")?;
         if found != header::<R>() {

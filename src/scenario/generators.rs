@@ -1,9 +1,10 @@
 //! Seeded random bodies: the thesis cloud and a debris shell in orbit.
 
-use bevy::math::{DQuat, DVec3, Vec3};
+use bevy::math::{DVec3, Vec3};
 
 use super::format::{Body, Cloud, Shape, Shell, Template};
 use crate::components::{BodyId, BodyState};
+use crate::maths;
 use crate::rng::Rng;
 
 /// Draws tried per body before a cloud gives up on finding free space.
@@ -158,9 +159,9 @@ pub fn shell(
         // Orbit plane: the equator (x–z) tilted about a random line of nodes.
         let node = rng.range(0.0, std::f64::consts::TAU);
         let tilt = rng.range(-max_tilt, max_tilt);
-        let plane = DQuat::from_rotation_y(node) * DQuat::from_rotation_x(tilt);
-        let phase = rng.range(0.0, std::f64::consts::TAU);
-        let radial = plane * DVec3::new(phase.cos(), 0.0, phase.sin());
+        let plane = maths::rotation_y(node) * maths::rotation_x(tilt);
+        let (sin, cos) = maths::sin_cos(rng.range(0.0, std::f64::consts::TAU));
+        let radial = plane * DVec3::new(cos, 0.0, sin);
         let normal = plane * DVec3::Y;
         let mut speed = (gm / r).sqrt() * (1.0 + rng.symmetric(f64::from(shell.speed_jitter)));
         if rng.unit() < f64::from(shell.retrograde_fraction) {
@@ -291,7 +292,10 @@ mod tests {
             assert!(p.dot(v).abs() < 1e-3 * r * v.length());
             // Prograde about +y, tilted at most 10°.
             let n = p.cross(v).normalize();
-            assert!(n.y >= 10f32.to_radians().cos() - 1e-5, "normal {n}");
+            assert!(
+                f64::from(n.y) >= maths::sin_cos(10f64.to_radians()).1 - 1e-5,
+                "normal {n}"
+            );
         }
     }
 }

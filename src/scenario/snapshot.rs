@@ -12,6 +12,7 @@ use super::checked::MAX_STATE;
 use super::format::{Body, Scenario, Shape};
 use crate::components::BodyState;
 use crate::resources::SimulationSettings;
+use crate::state_hash::StateHash;
 
 /// What a snapshot holds.
 #[derive(Clone, Copy, Debug)]
@@ -88,8 +89,9 @@ pub fn beyond_a_scenario(bodies: &[BodyState]) -> Option<String> {
         })
 }
 
-/// Writes `snapshot` as a scenario file: a comment line, then the scenario
-/// as RON, a field a line and a body a line.
+/// Writes `snapshot` as a scenario file: a comment line, one with the
+/// state's hash, then the scenario as RON, a field a line and a body a
+/// line.
 pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Result<()> {
     BodyState::check_all_finite(snapshot.bodies)?;
     // What a scenario file may hold, so that the snapshot loads back.
@@ -104,6 +106,11 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
         out,
         "// A snapshot of {name} after {} updates, written by Kessler: every body with its id.",
         snapshot.updates
+    )?;
+    writeln!(
+        out,
+        "// State hash {} (docs/design.md, \"State hash\").",
+        StateHash::of(snapshot.bodies, snapshot.next_id)
     )?;
     let layout = PrettyConfig::new().struct_names(true).depth_limit(2);
     let text = ron::ser::to_string_pretty(&snapshot.to_scenario(), layout).map_err(io::Error::other)?;

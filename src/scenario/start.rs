@@ -60,7 +60,8 @@ fn first_update_stays_finite(
         f64::from(settings.gravitational_constant),
         &mut sources,
     );
-    let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
+    let softening = f64::from(settings.softening);
+    let (softening2, dt) = (softening * softening, settings.time_step);
     let mut scratch = PullScratch::default();
     let (pull, stage) = prepare_pull(
         settings.gravity_method,

@@ -10,10 +10,11 @@
 //! fragments get fresh ids in pair order, so the result does not depend on
 //! how the stage is executed.
 
-use bevy::math::{DQuat, DVec3};
+use bevy::math::DVec3;
 use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, GravityRole};
+use crate::maths;
 use crate::resources::{MemoryBudget, NextBodyId, SimulationSettings};
 use crate::rng::Rng;
 use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
@@ -53,8 +54,8 @@ fn sphere_points(count: u32) -> Vec<DVec3> {
         .map(|i| {
             let y = 1.0 - (f64::from(i) + 0.5) * 2.0 / n;
             let r = (1.0 - y * y).sqrt();
-            let phi = golden * f64::from(i);
-            DVec3::new(r * phi.cos(), y, r * phi.sin())
+            let (sin, cos) = maths::sin_cos(golden * f64::from(i));
+            DVec3::new(r * cos, y, r * sin)
         })
         .collect()
 }
@@ -63,7 +64,7 @@ fn sphere_points(count: u32) -> Vec<DVec3> {
 /// cubes keep the pair's volume, `∛((h1x·h1y·h1z + h2x·h2y·h2z)/count)`.
 pub fn fragment_half_extent(a: Vec3, b: Vec3, count: u32) -> f64 {
     let volume = |h: Vec3| f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
-    ((volume(a) + volume(b)) / f64::from(count.max(2))).cbrt()
+    maths::cbrt((volume(a) + volume(b)) / f64::from(count.max(2)))
 }
 
 /// Kernel: the fragments of bodies `a` and `b`, with ids from `first_id`.
@@ -83,8 +84,7 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u6
 
     let (low, high) = (a.id.0.min(b.id.0), a.id.0.max(b.id.0));
     let mut rng = Rng::stream(Rng::stream(seed, low).next_u64(), high);
-    let turn = DQuat::from_euler(
-        EulerRot::YXZ,
+    let turn = maths::rotation_yxz(
         rng.range(0.0, std::f64::consts::TAU),
         rng.range(0.0, std::f64::consts::TAU),
         rng.range(0.0, std::f64::consts::TAU),
@@ -204,7 +204,10 @@ mod tests {
             assert_eq!(f.len(), count as usize);
             let mass: f64 = f.iter().map(|x| f64::from(x.mass)).sum();
             assert!((mass - 4.0).abs() < 1e-5, "mass {mass}");
-            let volume: f64 = f.iter().map(|x| f64::from(x.half_extents.x).powi(3)).sum();
+            let volume: f64 = f
+                .iter()
+                .map(|x| f64::from(x.half_extents.x) * f64::from(x.half_extents.x) * f64::from(x.half_extents.x))
+                .sum();
             assert!((volume - 2.0).abs() < 1e-5, "half-volume {volume}");
             let momentum: DVec3 = f.iter().map(|x| x.velocity.as_dvec3() * f64::from(x.mass)).sum();
             let expected = DVec3::new(4.0 - 6.0, 1.0, 1.5);

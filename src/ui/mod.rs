@@ -8,6 +8,15 @@
 //! [`overlay`] (the egui panel and HUD) on `session`, `view` and `measure`.
 //! The simulation itself is the same headless core (`crate::systems`),
 //! driven at a chosen update rate.
+//!
+//! What is drawn never feeds back into the state, so the drawing may use
+//! the platform's trigonometry (which `clippy.toml` keeps out of the
+//! simulation): its last bits move a pixel, not a body.
+
+#![expect(
+    clippy::disallowed_methods,
+    reason = "the drawing's trigonometry does not decide the state (see above)"
+)]
 
 mod app;
 pub mod draw;

@@ -1,9 +1,9 @@
-//! The group walk's kernel (`kernel.rs`) with AVX: each of the
-//! `LANES` lanes in one `f32` slot of a 256-bit register, every operation
-//! the one the plain kernel does in that lane, in the same order (no fused
-//! multiply-add), so both give the same bits; a test in `kernel.rs`
-//! holds them to it. Two bodies go down the lists together: they share
-//! the loads and give the processor independent work between divisions.
+//! The walks' kernel (`kernel.rs`) with AVX: the [`LANES`] lanes in the
+//! `f32` slots of two 256-bit registers (lanes 0–7 and 8–15), every
+//! operation the one the plain kernel does in that lane, in the same order
+//! (no fused multiply-add, which AVX alone does not have), so both give
+//! the same bits; a test in `kernel.rs` holds them to it. The two halves
+//! give the processor independent work between divisions.
 
 use std::arch::x86_64::*;
 
@@ -12,22 +12,25 @@ use bevy::math::DVec3;
 use super::columns::{BLOCK, GroupLists, LANES, lanes_total};
 use super::source::GravitySource;
 
-const _: () = assert!(LANES == 8, "one lane an f32 slot of a 256-bit register");
+const _: () = assert!(LANES == 16, "the lanes two registers of eight f32 slots");
 
-/// The eight values of `a` in one register.
+/// Eight values of `a` from `from` on in one register.
 #[inline]
 #[target_feature(enable = "avx")]
-fn load(a: &[f32; 8]) -> __m256 {
+fn load(a: &[f32; LANES], from: usize) -> __m256 {
+    let a = &a[from..from + 8];
     _mm256_set_ps(a[7], a[6], a[5], a[4], a[3], a[2], a[1], a[0])
 }
 
-/// The `k`-th eight values of each of `columns`.
+/// The `k`-th chunk of each of `columns`: lanes 0–7, then 8–15.
 #[inline]
 #[target_feature(enable = "avx")]
-fn load_all<const N: usize>(columns: &[&[[f32; 8]]; N], k: usize) -> [__m256; N] {
-    let mut out = [_mm256_setzero_ps(); N];
-    for (v, column) in out.iter_mut().zip(columns) {
-        *v = load(&column[k]);
+fn load_all<const N: usize>(columns: &[&[[f32; LANES]]; N], k: usize) -> [[__m256; N]; 2] {
+    let mut out = [[_mm256_setzero_ps(); N]; 2];
+    for (half, from) in out.iter_mut().zip([0, 8]) {
+        for (v, column) in half.iter_mut().zip(columns) {
+            *v = load(&column[k], from);
+        }
     }
     out
 }
@@ -97,81 +100,82 @@ fn far_term(gm: __m256, q: [__m256; 6], r: [__m256; 3], softening2: __m256) -> [
     [component(0), component(1), component(2)]
 }
 
-/// One body's partial sums in `f64` (slots 0–3 and 4–7), into which each
-/// block's `f32` sums are carried, as the plain kernel's `lane_sums`.
+/// One body's partial sums in `f64` (lanes 0–3, 4–7, 8–11 and 12–15),
+/// into which each block's `f32` sums (lanes 0–7, 8–15) are carried, as
+/// the plain kernel's `lane_sums`.
 #[derive(Clone, Copy)]
-struct Sums([[__m256d; 2]; 3]);
+struct Sums([[__m256d; 4]; 3]);
 
 impl Sums {
     #[inline]
     #[target_feature(enable = "avx")]
     fn new() -> Self {
-        Self([[_mm256_setzero_pd(); 2]; 3])
+        Self([[_mm256_setzero_pd(); 4]; 3])
     }
 
     #[inline]
     #[target_feature(enable = "avx")]
-    fn carry(&mut self, block: [__m256; 3]) {
-        for (sum, block) in self.0.iter_mut().zip(block) {
-            sum[0] = _mm256_add_pd(sum[0], _mm256_cvtps_pd(_mm256_castps256_ps128(block)));
-            sum[1] = _mm256_add_pd(sum[1], _mm256_cvtps_pd(_mm256_extractf128_ps::<1>(block)));
+    fn carry(&mut self, block: [[__m256; 3]; 2]) {
+        for (sum, c) in self.0.iter_mut().zip(0..3) {
+            for (quarters, half) in sum.chunks_exact_mut(2).zip(block) {
+                let half = half[c];
+                quarters[0] = _mm256_add_pd(quarters[0], _mm256_cvtps_pd(_mm256_castps256_ps128(half)));
+                quarters[1] = _mm256_add_pd(quarters[1], _mm256_cvtps_pd(_mm256_extractf128_ps::<1>(half)));
+            }
         }
     }
 
     #[inline]
     #[target_feature(enable = "avx")]
     fn total(&self) -> DVec3 {
-        lanes_total(self.0.map(|[low, high]| {
-            let (low, high) = (slots(low), slots(high));
-            [low[0], low[1], low[2], low[3], high[0], high[1], high[2], high[3]]
+        lanes_total(self.0.map(|quarters| {
+            let quarters = quarters.map(|q| slots(q));
+            std::array::from_fn(|l| quarters[l / 4][l % 4])
         }))
     }
 }
 
-/// The sums of `term` over the `chunks` chunks of `columns` for each of
-/// `B` bodies at `p`: blocks of [`BLOCK`] chunks summed in registers in
-/// `f32`, each block then carried into the `f64` sums.
+/// The sums of `term` over the `chunks` chunks of `columns` for a body at
+/// `p`: blocks of [`BLOCK`] chunks summed in registers in `f32`, each
+/// block then carried into the `f64` sums.
 #[inline]
 #[target_feature(enable = "avx")]
-fn block_sums<const B: usize, const N: usize>(
-    columns: &[&[[f32; 8]]; N],
+fn block_sums<const N: usize>(
+    columns: &[&[[f32; LANES]]; N],
     chunks: usize,
-    p: [[__m256; 3]; B],
+    p: [__m256; 3],
     term: impl Fn([__m256; N], [__m256; 3]) -> [__m256; 3],
-) -> [Sums; B] {
-    let mut sums = [Sums::new(); B];
+) -> Sums {
+    let mut sums = Sums::new();
     let mut start = 0;
     while start < chunks {
         let end = (start + BLOCK).min(chunks);
-        let mut block = [[_mm256_setzero_ps(); 3]; B];
+        let mut block = [[_mm256_setzero_ps(); 3]; 2];
         for k in start..end {
-            let values = load_all(columns, k);
-            for (block, p) in block.iter_mut().zip(p) {
+            for (block, values) in block.iter_mut().zip(load_all(columns, k)) {
                 let t = term(values, p);
                 for (b, t) in block.iter_mut().zip(t) {
                     *b = _mm256_add_ps(*b, t);
                 }
             }
         }
-        for (sums, block) in sums.iter_mut().zip(block) {
-            sums.carry(block);
-        }
+        sums.carry(block);
         start = end;
     }
     sums
 }
 
-/// `kernel::pull_on` for each of `B` bodies at `p`.
+/// `kernel::pull_on` for a body at `at`.
 #[inline]
 #[target_feature(enable = "avx")]
-fn pulls<const B: usize>(lists: &GroupLists, at: [DVec3; B], softening2: f32) -> [DVec3; B] {
+fn pull(lists: &GroupLists, at: DVec3, softening2: f32) -> DVec3 {
     let (near_chunks, far_chunks) = lists.chunks();
-    let p = at.map(|p| lists.relative(p).map(|c| _mm256_set1_ps(c)));
+    let p = lists.relative(at).map(|c| _mm256_set1_ps(c));
     let softening2 = _mm256_set1_ps(softening2);
     let near = lists
         .near
         .each_ref()
-        .map(|column| &column.as_chunks::<8>().0[..near_chunks]);
+        .map(|column| &column.as_chunks::<LANES>().0[..near_chunks]);
     let near_sums = block_sums(&near, near_chunks, p, |[x, y, z, gm], [px, py, pz]| {
         let d = [_mm256_sub_ps(x, px), _mm256_sub_ps(y, py), _mm256_sub_ps(z, pz)];
         near_term(gm, d, softening2)
@@ -179,23 +183,17 @@ fn pulls<const B: usize>(lists: &GroupLists, at: [DVec3; B], softening2: f32) ->
     let far = lists
         .far
         .each_ref()
-        .map(|column| &column.as_chunks::<8>().0[..far_chunks]);
+        .map(|column| &column.as_chunks::<LANES>().0[..far_chunks]);
     let far_sums = block_sums(&far, far_chunks, p, |[x, y, z, gm, q @ ..], [px, py, pz]| {
         let r = [_mm256_sub_ps(px, x), _mm256_sub_ps(py, y), _mm256_sub_ps(pz, z)];
         far_term(gm, q, r, softening2)
     });
-    std::array::from_fn(|b| near_sums[b].total() + far_sums[b].total())
+    near_sums.total() + far_sums.total()
 }
 
 /// `kernel::group_pulls` with AVX.
 #[target_feature(enable = "avx")]
 pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<DVec3>) {
     let softening2 = softening2 as f32;
-    let mut pairs = members.chunks_exact(2);
-    for pair in &mut pairs {
-        out.extend(pulls(lists, [pair[0].position, pair[1].position], softening2));
-    }
-    for s in pairs.remainder() {
-        out.extend(pulls(lists, [s.position], softening2));
-    }
+    out.extend(members.iter().map(|s| pull(lists, s.position, softening2)));
 }

@@ -1,28 +1,26 @@
-//! The walks' kernel (`kernel.rs`) with AVX-512: sixteen
-//! `f32` lanes in one 512-bit register, and `1/r` from the processor's
-//! approximate reciprocal square root (`vrsqrt14ps`, 14 bits) refined by
-//! one Newton step, instead of a division and a square root: those run on
-//! one unit of the core and bound the 256-bit kernel, while the estimate
-//! and the step take a cycle or two. The step brings `1/r` (or, for a
-//! source's pull, `1/r³` directly) to about `f32`'s precision; each term
-//! is added with a fused multiply-add, so the pull differs from the plain
-//! kernel's in the last bits. Every run on one processor takes the same
-//! kernel, so sequential and parallel still give the same bits. Each
-//! body's sum depends on the lists it is given alone, summed in a fixed
-//! order: blocks of [`BLOCK`] registers in `f32`, carried into `f64`, the
-//! lanes added at the end.
+//! The walks' kernel (`kernel.rs`) with AVX-512: the [`LANES`] lanes in
+//! the sixteen `f32` slots of one 512-bit register, every operation the
+//! one the plain kernel does in that lane, in the same order: correctly
+//! rounded additions, multiplications, divisions and square roots, no
+//! fused multiply-add and no approximate reciprocal, so it gives the plain
+//! kernel's bits (a test in `kernel.rs` holds it to them). Four bodies go
+//! down a list together, sharing the loads and giving the processor
+//! independent work between divisions. Each body's sum depends on the
+//! lists it is given alone, summed in a fixed order: blocks of [`BLOCK`]
+//! registers in `f32`, carried into `f64`, the lanes added at the end
+//! (`lanes_total`).
 
 use std::arch::x86_64::*;
 
 use bevy::math::DVec3;
 
-use super::columns::{BLOCK, GroupLists, PAD_TO};
+use super::columns::{BLOCK, GroupLists, LANES, lanes_total};
 use super::source::GravitySource;
 
-/// Entries in a register.
+/// Entries in a register: one lane each.
 const WIDE: usize = 16;
 
-const _: () = assert!(PAD_TO.is_multiple_of(WIDE), "padded lists are whole registers");
+const _: () = assert!(LANES == WIDE, "one lane an f32 slot of a 512-bit register");
 
 /// Bodies that go down a list together, sharing the loads (their `f32`
 /// block sums take twelve of the 32 registers; more gained nothing).
@@ -37,105 +35,77 @@ fn load(a: &[f32; WIDE]) -> __m512 {
     )
 }
 
-/// `|d|²`.
+/// `a·x + b·y + c·z`, summed left to right.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn length2(d: [__m512; 3]) -> __m512 {
-    _mm512_fmadd_ps(d[2], d[2], _mm512_fmadd_ps(d[1], d[1], _mm512_mul_ps(d[0], d[0])))
+fn dot(a: [__m512; 3], x: [__m512; 3]) -> __m512 {
+    _mm512_add_ps(
+        _mm512_add_ps(_mm512_mul_ps(a[0], x[0]), _mm512_mul_ps(a[1], x[1])),
+        _mm512_mul_ps(a[2], x[2]),
+    )
 }
 
-/// The slots where `s`, a squared distance, is finite (not the padding far
-/// away, nor a source or node so far that its squared distance overflows
-/// `f32`: its pull is dropped), among those of `among`.
+/// Adds `kernel::near_term` in each slot to `sum`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn finite(among: __mmask16, s: __m512) -> __mmask16 {
-    _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(among, s, _mm512_set1_ps(f32::INFINITY))
-}
-
-/// Adds `kernel::near_term` in each slot to `sum`: `G·m·d/s^{3/2}`
-/// with `s = |d|² + ε²`. From the estimate `y ≈ 1/√s`, `1/s^{3/2}` is
-/// `y³·(5/2 − (3/2)·s·y²)`, a Newton step taken on `y³` (relative error
-/// `7.5·e²` for an estimate off by `e` ≤ 2⁻¹⁴: below `f32`'s rounding).
-/// `SOFTENED`: the caller has checked that `ε² ≥ 10⁻³⁰` and that no
-/// source's `G·m/ε³` comes near `f32`'s range (see [`softened`]), so that
-/// the term of the body itself (`d = 0`) is exactly 0 without being masked
-/// out.
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn add_near<const SOFTENED: bool>(sum: &mut [__m512; 3], gm: __m512, d: [__m512; 3], softening2: __m512) {
-    // Nothing from beyond f32's range; unless softened, nothing from the
-    // body itself (r² = 0) either.
-    let (s, keep) = if SOFTENED {
-        let s = _mm512_fmadd_ps(
-            d[2],
-            d[2],
-            _mm512_fmadd_ps(d[1], d[1], _mm512_fmadd_ps(d[0], d[0], softening2)),
-        );
-        (s, finite(!0, s))
-    } else {
-        let r2 = length2(d);
-        let s = _mm512_add_ps(r2, softening2);
-        (s, finite(_mm512_cmp_ps_mask::<_CMP_GT_OQ>(r2, _mm512_setzero_ps()), s))
-    };
-    let y = _mm512_rsqrt14_ps(s);
-    let y2 = _mm512_mul_ps(y, y);
-    let step = _mm512_fnmadd_ps(_mm512_mul_ps(s, y2), _mm512_set1_ps(1.5), _mm512_set1_ps(2.5));
-    let f = _mm512_maskz_mul_ps(keep, _mm512_mul_ps(_mm512_mul_ps(gm, y), y2), step);
+fn add_near(sum: &mut [__m512; 3], gm: __m512, d: [__m512; 3], softening2: __m512) {
+    let r2 = dot(d, d);
+    let inv2 = _mm512_div_ps(_mm512_set1_ps(1.0), _mm512_add_ps(r2, softening2));
+    // Zero where r2 > 0 fails (the body itself), as the plain branch.
+    let keep = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(r2, _mm512_setzero_ps());
+    let f = _mm512_maskz_mul_ps(keep, gm, _mm512_mul_ps(inv2, _mm512_sqrt_ps(inv2)));
     for (sum, d) in sum.iter_mut().zip(d) {
-        *sum = _mm512_fmadd_ps(d, f, *sum);
+        *sum = _mm512_add_ps(*sum, _mm512_mul_ps(d, f));
     }
-}
-
-/// Whether the near list may be summed [`SOFTENED`](add_near): `ε²` (in
-/// `f32`, as summed) is at least 10⁻³⁰, so that `1/ε²` is far inside
-/// `f32`'s range, and the largest `G·m` over `ε³` is below 10³⁶, so that
-/// the body's own term is finite, even with the estimate's error.
-fn softened(gm: &[f32], softening2: f32) -> bool {
-    let most = gm.iter().fold(0.0f32, |most, &g| most.max(g));
-    softening2 >= 1e-30 && f64::from(most) * f64::from(softening2).powf(-1.5) < 1e36
 }
 
 /// The near sums of the bodies at `at` into `totals`.
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn near_sums<const SOFTENED: bool>(lists: &GroupLists, at: &[DVec3], totals: &mut [DVec3; BATCH], softening2: __m512) {
+fn near_sums(lists: &GroupLists, at: &[DVec3], totals: &mut [DVec3; BATCH], softening2: __m512) {
     let columns = lists.near.each_ref().map(|c| &c[..]);
     list_sums(lists, columns, at, totals, |sum, [x, y, z, gm], [px, py, pz]| {
         let d = [_mm512_sub_ps(x, px), _mm512_sub_ps(y, py), _mm512_sub_ps(z, pz)];
-        add_near::<SOFTENED>(sum, gm, d, softening2);
+        add_near(sum, gm, d, softening2);
     });
 }
 
-/// Adds `kernel::far_term` in each slot to `sum`, in its form:
-/// `G·m/r²` times ratios of lengths (not `G·m/r⁴` on its own), so that no
-/// intermediate overflows or falls into `f32`'s subnormal range unless the
-/// term itself would; nothing where `r²` overflows.
+/// Adds `kernel::far_term` in each slot to `sum`; nothing where `r²`
+/// overflows (`1/r² = 0`), as the plain branch.
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn add_far(sum: &mut [__m512; 3], gm: __m512, q: [__m512; 6], r: [__m512; 3], softening2: __m512) {
     let [xx, yy, zz, xy, xz, yz] = q;
-    let s = _mm512_add_ps(length2(r), softening2);
-    // 1/r by one Newton step, y·(3/2 − s·y²/2); nothing is added beyond
-    // f32's range (the padding among them), however large the quadrupole.
-    let keep = finite(!0, s);
-    let y = _mm512_rsqrt14_ps(s);
-    let half_s_y = _mm512_mul_ps(_mm512_mul_ps(s, _mm512_set1_ps(0.5)), y);
-    let inv1 = _mm512_maskz_mul_ps(keep, y, _mm512_fnmadd_ps(half_s_y, y, _mm512_set1_ps(1.5)));
-    let inv2 = _mm512_mul_ps(inv1, inv1);
+    let inv2 = _mm512_div_ps(_mm512_set1_ps(1.0), _mm512_add_ps(dot(r, r), softening2));
+    let inv1 = _mm512_sqrt_ps(inv2);
     let n = r.map(|r| _mm512_mul_ps(r, inv1));
-    let dot = |a: [__m512; 3]| _mm512_fmadd_ps(a[2], n[2], _mm512_fmadd_ps(a[1], n[1], _mm512_mul_ps(a[0], n[0])));
-    let qn = [dot([xx, xy, xz]), dot([xy, yy, yz]), dot([xz, yz, zz])];
-    let radial = _mm512_fmadd_ps(_mm512_mul_ps(dot(qn), inv2), _mm512_set1_ps(2.5), _mm512_set1_ps(1.0));
+    let qn = [dot([xx, xy, xz], n), dot([xy, yy, yz], n), dot([xz, yz, zz], n)];
+    let radial = _mm512_add_ps(
+        _mm512_set1_ps(1.0),
+        _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(2.5), dot(n, qn)), inv2),
+    );
     let scale = _mm512_mul_ps(gm, inv2);
+    let keep = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(inv2, _mm512_setzero_ps());
     for ((sum, qn), n) in sum.iter_mut().zip(qn).zip(n) {
-        let ratio = _mm512_fmsub_ps(qn, inv2, _mm512_mul_ps(n, radial));
-        *sum = _mm512_mask3_fmadd_ps(scale, ratio, *sum, keep);
+        let ratio = _mm512_sub_ps(_mm512_mul_ps(qn, inv2), _mm512_mul_ps(n, radial));
+        *sum = _mm512_add_ps(*sum, _mm512_maskz_mul_ps(keep, scale, ratio));
     }
 }
 
-/// One body's partial sums in `f64` (slots 0–7 and 8–15 of the `f32`
-/// lanes), into which each block's `f32` sums are carried.
+/// The eight slots of `v`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn slots(v: __m512d) -> [f64; 8] {
+    let quarters = [_mm512_castpd512_pd256(v), _mm512_extractf64x4_pd::<1>(v)]
+        .map(|h| [_mm256_castpd256_pd128(h), _mm256_extractf128_pd::<1>(h)]);
+    std::array::from_fn(|i| {
+        let q = quarters[i / 4][i / 2 % 2];
+        _mm_cvtsd_f64(if i % 2 == 0 { q } else { _mm_unpackhi_pd(q, q) })
+    })
+}
+
+/// One body's partial sums in `f64` (lanes 0–7 and 8–15), into which each
+/// block's `f32` sums are carried, as the plain kernel's `lane_sums`.
 #[derive(Clone, Copy)]
 struct Sums([[__m512d; 2]; 3]);
 
@@ -159,8 +129,10 @@ impl Sums {
     #[inline]
     #[target_feature(enable = "avx512f")]
     fn total(&self) -> DVec3 {
-        let [x, y, z] = self.0.map(|[low, high]| _mm512_reduce_add_pd(_mm512_add_pd(low, high)));
-        DVec3::new(x, y, z)
+        lanes_total(self.0.map(|[low, high]| {
+            let (low, high) = (slots(low), slots(high));
+            std::array::from_fn(|l| if l < 8 { low[l] } else { high[l - 8] })
+        }))
     }
 }
 
@@ -233,7 +205,6 @@ fn list_sums<const N: usize>(
 /// sum, added in `f64`.
 #[target_feature(enable = "avx512f")]
 pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f64, out: &mut Vec<DVec3>) {
-    let softened = softened(&lists.near[3], softening2 as f32);
     let softening2 = _mm512_set1_ps(softening2 as f32);
     let (mut near, mut far) = ([DVec3::ZERO; BATCH], [DVec3::ZERO; BATCH]);
     for batch in members.chunks(BATCH) {
@@ -242,11 +213,7 @@ pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f6
             *at = s.position;
         }
         let at = &at[..batch.len()];
-        if softened {
-            near_sums::<true>(lists, at, &mut near, softening2);
-        } else {
-            near_sums::<false>(lists, at, &mut near, softening2);
-        }
+        near_sums(lists, at, &mut near, softening2);
         let columns = lists.far.each_ref().map(|c| &c[..]);
         list_sums(
             lists,

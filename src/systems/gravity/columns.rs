@@ -17,19 +17,18 @@ use bevy::math::DVec3;
 
 use super::source::GravitySource;
 
-/// Partial sums per component: the `f32` slots of a 256-bit register.
-pub const LANES: usize = 8;
+/// Partial sums per component: the `f32` slots of a 512-bit register (two
+/// 256-bit ones). Every kernel sums entry `i` in lane `i % LANES`, so this
+/// number is part of what decides the bits of a pull.
+pub const LANES: usize = 16;
 
 /// Terms per lane summed in `f32` before the lane's partial sum is carried
 /// over into `f64`.
 pub const BLOCK: usize = 16;
 
-/// The lists are padded to a multiple of this many entries: whole 512-bit
-/// registers for the AVX-512 kernel, whole chunks of [`LANES`] for the
-/// others (the padding adds exactly nothing).
-pub const PAD_TO: usize = 16;
-
-const _: () = assert!(PAD_TO.is_multiple_of(LANES), "padded lists are whole chunks of LANES");
+/// The lists are padded to a multiple of this many entries, whole chunks
+/// of [`LANES`] (the padding adds exactly nothing).
+pub const PAD_TO: usize = LANES;
 
 /// Padding: a massless entry this far away adds exactly nothing (an
 /// infinite squared distance in `f32`, a finite distance from any position
@@ -146,11 +145,15 @@ impl GroupLists {
     }
 }
 
-/// The sum of `LANES` lanes, pairwise in a fixed order.
+/// The sum of `LANES` lanes, pairwise in a fixed order: `((l0 + l1) +
+/// (l2 + l3)) + ((l4 + l5) + (l6 + l7))` for each half, then the halves.
 #[inline]
 pub(super) fn lane_total(l: [f64; LANES]) -> f64 {
-    ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]))
+    let half = |l: &[f64]| ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]));
+    half(&l[..8]) + half(&l[8..])
 }
+
+const _: () = assert!(LANES == 16, "lane_total adds two halves of eight");
 
 /// The sum of the lanes of each component, pairwise in a fixed order.
 #[inline]

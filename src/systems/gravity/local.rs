@@ -243,7 +243,7 @@ mod tests {
                 let error = |x: DVec3| (local.at(x) - sum(x)).length();
                 let (big, small) = (error(x), error(x * 0.5));
                 let scale = sources.iter().map(|&(u, gm)| gm / u.length_squared()).sum::<f64>();
-                assert!(big <= 8.0 * (10.0f64 / 80.0).powi(3) * scale, "{big} at {x}");
+                assert!(big <= 8.0 * (0.125 * 0.125 * 0.125) * scale, "{big} at {x}");
                 assert!(small > big / 12.0 && small < big / 5.0, "{big} then {small}");
             }
         }

@@ -274,7 +274,8 @@ fn apply_gravity(
     let all = all.contiguous_iter().expect("body components are table-stored");
     let GravityScratch { sources, pull } = &mut *scratch;
     collect_sources(all, f64::from(settings.gravitational_constant), sources);
-    let (softening2, dt) = (f64::from(settings.softening).powi(2), settings.time_step);
+    let softening = f64::from(settings.softening);
+    let (softening2, dt) = (softening * softening, settings.time_step);
     let (pull, stage) = prepare_pull(
         settings.gravity_method,
         sources,

@@ -714,6 +714,7 @@ impl Octree {
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
+    use crate::maths;
     use crate::rng::Rng;
     use crate::systems::gravity::source::acceleration_at;
 
@@ -736,15 +737,13 @@ pub(super) mod tests {
         let mut rng = Rng::new(seed);
         (0..count)
             .map(|i| {
-                let r = 100.0 / (rng.range(0.01, 1.0).powf(-2.0 / 3.0) - 1.0).sqrt();
+                let r = 100.0 / (maths::pow(rng.range(0.01, 1.0), -2.0 / 3.0) - 1.0).sqrt();
                 let z = rng.symmetric(1.0);
-                let phi = rng.range(0.0, std::f64::consts::TAU);
+                let (sin, cos) = maths::sin_cos(rng.range(0.0, std::f64::consts::TAU));
                 let s = (1.0 - z * z).sqrt();
                 GravitySource {
                     id: BodyId(i as u64),
-                    position: (DVec3::new(s * phi.cos(), s * phi.sin(), z) * r.min(5000.0))
-                        .as_vec3()
-                        .as_dvec3(),
+                    position: (DVec3::new(s * cos, s * sin, z) * r.min(5000.0)).as_vec3().as_dvec3(),
                     gm: 6.674 * rng.range(0.5, 2.0),
                 }
             })
