@@ -23,8 +23,23 @@ fn main() {
         }
     });
     println!("cargo:rustc-env=KESSLER_GIT_COMMIT={commit}");
-    for path in [".git/HEAD", ".git/index", ".git/refs"] {
-        if std::path::Path::new(path).exists() {
+    // The commit moves when HEAD names another branch, when the branch's
+    // ref file (or, once packed, `packed-refs`) changes, and the tree's
+    // state with the index: watch each file itself (a folder's time does
+    // not change when a file inside it does).
+    let mut watched = vec![
+        ".git/HEAD".to_owned(),
+        ".git/index".to_owned(),
+        ".git/packed-refs".to_owned(),
+    ];
+    if let Some(branch) = std::fs::read_to_string(".git/HEAD")
+        .ok()
+        .and_then(|head| head.trim().strip_prefix("ref: ").map(str::to_owned))
+    {
+        watched.push(format!(".git/{branch}"));
+    }
+    for path in watched {
+        if std::path::Path::new(&path).exists() {
             println!("cargo:rerun-if-changed={path}");
         }
     }

@@ -131,6 +131,22 @@ fn writes_results_passes_overhead_machine_and_plot() {
     ] {
         assert!(machine.contains(key), "{key} missing: {machine}");
     }
+    // The commit named is the checkout's (where there is one): a stale
+    // build script's would name one whose code did not run.
+    let head = std::process::Command::new("git")
+        .args(["rev-parse", "--short=12", "HEAD"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .ok()
+        .filter(|h| h.status.success());
+    if let Some(head) = head {
+        let head = String::from_utf8_lossy(&head.stdout);
+        assert!(
+            machine.contains(&format!("(commit {}", head.trim())),
+            "the machine file names another commit than HEAD ({}): {machine}",
+            head.trim()
+        );
+    }
     // The reference run's hash is the hash of that run on the command line.
     let headless = kessler()
         .args([

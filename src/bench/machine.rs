@@ -69,6 +69,18 @@ pub fn machine_report(command: &str) -> String {
     out
 }
 
+/// The plot's footer: the machine and the build the figures come from.
+pub fn plot_footer() -> String {
+    format!(
+        "{}, {} hardware threads · Kessler {}, commit {} · {}",
+        this_cpu(),
+        available_threads(),
+        env!("CARGO_PKG_VERSION"),
+        env!("KESSLER_GIT_COMMIT"),
+        utc_now()
+    )
+}
+
 /// This machine's CPU model (its architecture if unknown).
 pub fn this_cpu() -> String {
     cpu_of(&std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default())

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{Crossover, OverheadRow, PassRow, RenderRow, RunResult, overhead_rows, png, svg};
+use super::{Crossover, Labels, OverheadRow, PassRow, RenderRow, RunResult, overhead_rows, plot_footer, png, svg};
 use crate::output::{
     AppendedFile, Output, OutputError, OutputProblem, WriteError, check_outputs, write_atomically, write_csv,
 };
@@ -203,9 +203,11 @@ impl BenchOutputs {
             write_atomically(&self.crossover, |w| write_csv(w, crossovers))?;
             finished.crossover = true;
         }
-        let plot = svg(results, crossovers, title)?;
+        let footer = plot_footer();
+        let labels = Labels { title, footer: &footer };
+        let plot = svg(results, crossovers, labels)?;
         write_atomically(&self.plot_svg, |w| w.write_all(plot.as_bytes()))?;
-        let plot = png(results, crossovers, title)?;
+        let plot = png(results, crossovers, labels)?;
         write_atomically(&self.plot_png, |w| w.write_all(&plot))?;
         finished.plot = true;
         Ok(finished)

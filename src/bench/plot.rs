@@ -1,8 +1,13 @@
 //! The benchmark plot: update time against body count, log–log, one color
 //! per execution setting (sequential, parallel on T threads with its split
 //! policy), a thick line for the whole update and a thin dashed line for
-//! each stage of the stage list, and a vertical mark where parallel with
-//! split `Always` starts to beat sequential (the crossover). Drawn with plotters as SVG and as PNG; the labels use the Ubuntu
+//! each stage of the stage list, each measured point marked (the whole
+//! update by a large dot, each stage by a shape of its own, so a setting
+//! measured at one count still shows), ticks labelled at the decades only
+//! (so no two labels run into each other), a vertical mark where parallel
+//! with split `Always` starts to beat sequential (the crossover), and a
+//! footer naming the machine and the commit. Drawn with plotters as SVG
+//! and as PNG; the labels use the Ubuntu
 //! font that `epaint_default_fonts` bundles (the crate egui takes its fonts
 //! from), so the PNG reads the same on every machine, with or without
 //! system fonts.
@@ -21,7 +26,9 @@ use crate::output::write_png;
 use crate::systems::STAGES;
 
 /// Width and height of the plot in pixels.
-pub const PLOT_SIZE: (u32, u32) = (1060, 620);
+pub const PLOT_SIZE: (u32, u32) = (1060, 640);
+/// Height of the footer at the bottom.
+const FOOTER_HEIGHT: u32 = 22;
 /// Width of the legend at the right.
 const LEGEND_WIDTH: u32 = 290;
 /// The font family every text is set in (registered as Ubuntu Light).
@@ -41,27 +48,37 @@ const SETTING_COLORS: [RGBColor; 6] = [
 #[error("plot: {0}")]
 pub struct PlotError(String);
 
+/// The words around the data: the title at the top, the footer (the
+/// machine and the commit) at the bottom.
+#[derive(Clone, Copy, Debug)]
+pub struct Labels<'a> {
+    /// The title.
+    pub title: &'a str,
+    /// The footer.
+    pub footer: &'a str,
+}
+
 /// The plot as an SVG document.
-pub fn svg(results: &[RunResult], crossovers: &[Crossover], title: &str) -> Result<String, PlotError> {
+pub fn svg(results: &[RunResult], crossovers: &[Crossover], labels: Labels<'_>) -> Result<String, PlotError> {
     let mut text = String::new();
     draw(
         SVGBackend::with_string(&mut text, PLOT_SIZE).into_drawing_area(),
         results,
         crossovers,
-        title,
+        labels,
     )?;
     Ok(text)
 }
 
 /// The plot as a PNG image.
-pub fn png(results: &[RunResult], crossovers: &[Crossover], title: &str) -> Result<Vec<u8>, PlotError> {
+pub fn png(results: &[RunResult], crossovers: &[Crossover], labels: Labels<'_>) -> Result<Vec<u8>, PlotError> {
     let (width, height) = PLOT_SIZE;
     let mut rgb = vec![0u8; (width * height * 3) as usize];
     draw(
         BitMapBackend::with_buffer(&mut rgb, PLOT_SIZE).into_drawing_area(),
         results,
         crossovers,
-        title,
+        labels,
     )?;
     let mut png = Vec::new();
     write_png(&mut png, width, height, &rgb).map_err(|e| PlotError(e.to_string()))?;
@@ -72,6 +89,66 @@ pub fn png(results: &[RunResult], crossovers: &[Crossover], title: &str) -> Resu
 fn dash(k: usize) -> (u32, u32) {
     let k = k as u32;
     (2 + 4 * k, 3 + k)
+}
+
+/// Runs `$draw` on the `$k`-th stage's marker at `$at` in `$color`: a
+/// filled and a hollow circle, a triangle, a hollow square, a cross, a
+/// filled square (six shapes for the six stages, then again).
+macro_rules! stage_marker {
+    ($k:expr, $at:expr, $color:expr, |$e:ident| $draw:expr) => {
+        match $k % 6 {
+            0 => {
+                let $e = Circle::new($at, 4, $color.filled());
+                $draw
+            }
+            1 => {
+                let $e = Circle::new($at, 4, $color.stroke_width(1));
+                $draw
+            }
+            2 => {
+                let $e = TriangleMarker::new($at, 5, $color.filled());
+                $draw
+            }
+            3 => {
+                let $e = EmptyElement::at($at) + Rectangle::new([(-3, -3), (3, 3)], $color.stroke_width(1));
+                $draw
+            }
+            4 => {
+                let $e = Cross::new($at, 4, $color.stroke_width(2));
+                $draw
+            }
+            _ => {
+                let $e = EmptyElement::at($at) + Rectangle::new([(-3, -3), (3, 3)], $color.filled());
+                $draw
+            }
+        }
+    };
+}
+
+/// Whether `v` is a power of ten (to a rounding), the only ticks labelled.
+#[expect(clippy::disallowed_methods, reason = "a plot's axis, not the state")]
+fn is_decade(v: f64) -> bool {
+    v > 0.0 && (v.log10() - v.log10().round()).abs() < 1e-9
+}
+
+/// A tick's label: a decade written out in groups of three digits
+/// (`100 000`), or below one as a decimal; nothing between decades.
+fn decade_label(v: f64) -> String {
+    if !is_decade(v) {
+        String::new()
+    } else if v >= 1.0 {
+        let digits = format!("{v:.0}");
+        let mut out = String::new();
+        for (i, c) in digits.chars().enumerate() {
+            if i > 0 && (digits.len() - i).is_multiple_of(3) {
+                out.push(' ');
+            }
+            out.push(c);
+        }
+        out
+    } else {
+        format!("{v}")
+    }
 }
 
 /// The decades `10^lo..10^hi` that hold every positive value (1..10 if
@@ -120,16 +197,16 @@ fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     results: &[RunResult],
     crossovers: &[Crossover],
-    title: &str,
+    labels: Labels<'_>,
 ) -> Result<(), PlotError> {
-    draw_on(root, results, crossovers, title).map_err(|e| PlotError(e.to_string()))
+    draw_on(root, results, crossovers, labels).map_err(|e| PlotError(e.to_string()))
 }
 
 fn draw_on<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     results: &[RunResult],
     crossovers: &[Crossover],
-    title: &str,
+    labels: Labels<'_>,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     static FONT_REGISTERED: Once = Once::new();
     FONT_REGISTERED.call_once(|| {
@@ -151,9 +228,15 @@ fn draw_on<DB: DrawingBackend>(
     );
 
     root.fill(&WHITE)?;
+    let (root, footer_area) = root.split_vertically(PLOT_SIZE.1 - FOOTER_HEIGHT);
+    footer_area.draw(&Text::new(
+        labels.footer.to_owned(),
+        (12, 2),
+        (FONT, 12).into_font().color(&RGBColor(90, 90, 90)),
+    ))?;
     let (plot_area, legend_area) = root.split_horizontally(PLOT_SIZE.0 - LEGEND_WIDTH);
     let mut chart = ChartBuilder::on(&plot_area)
-        .caption(title, (FONT, 18))
+        .caption(labels.title, (FONT, 18))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(80)
@@ -163,14 +246,15 @@ fn draw_on<DB: DrawingBackend>(
         .x_desc("bodies")
         .y_desc("time per update, ms")
         .label_style((FONT, 13))
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| format!("{v}"))
+        .x_label_formatter(&|v| decade_label(*v))
+        .y_label_formatter(&|v| decade_label(*v))
         .draw()?;
     for (i, runs) in settings.values_mut().enumerate() {
         runs.sort_by_key(|r| r.bodies_start);
         let color = SETTING_COLORS[i % SETTING_COLORS.len()];
-        let update = runs.iter().map(|r| (r.bodies_start as f64, ms(r.update_ns)));
-        chart.draw_series(LineSeries::new(update, color.stroke_width(3)))?;
+        let update: Vec<(f64, f64)> = runs.iter().map(|r| (r.bodies_start as f64, ms(r.update_ns))).collect();
+        chart.draw_series(LineSeries::new(update.iter().copied(), color.stroke_width(3)))?;
+        chart.draw_series(update.iter().map(|&p| Circle::new(p, 5, color.filled())))?;
         for (k, stage) in STAGES.iter().enumerate() {
             let line: Vec<(f64, f64)> = runs
                 .iter()
@@ -178,7 +262,15 @@ fn draw_on<DB: DrawingBackend>(
                 .map(|r| (r.bodies_start as f64, ms(r.stage(stage.stage))))
                 .collect();
             let (length, gap) = dash(k);
-            chart.draw_series(DashedLineSeries::new(line, length, gap, color.stroke_width(1)))?;
+            chart.draw_series(DashedLineSeries::new(
+                line.iter().copied(),
+                length,
+                gap,
+                color.stroke_width(1),
+            ))?;
+            for &p in &line {
+                stage_marker!(k, p, color, |e| chart.draw_series(std::iter::once(e))?);
+            }
         }
     }
     // The crossover of the whole update: a vertical line in the color of
@@ -226,6 +318,7 @@ fn draw_legend<'a, DB: DrawingBackend>(
     }
     y += 12;
     area.draw(&PathElement::new(vec![(10, y), (40, y)], BLACK.stroke_width(3)))?;
+    area.draw(&Circle::new((25, y), 5, BLACK.filled()))?;
     area.draw(&Text::new("whole update", (48, y - 7), text.clone()))?;
     for (k, stage) in STAGES.iter().enumerate() {
         y += 20;
@@ -236,6 +329,7 @@ fn draw_legend<'a, DB: DrawingBackend>(
             gap,
             BLACK.stroke_width(1),
         ))?;
+        stage_marker!(k, (25, y), BLACK, |e| area.draw(&e)?);
         area.draw(&Text::new(stage.label, (48, y - 7), text.clone()))?;
     }
     Ok(())
@@ -270,7 +364,15 @@ mod tests {
             result(100_000, ExecutionMode::Sequential, 1, 1e7),
             result(1000, ExecutionMode::Parallel, 2, 1e5),
             result(100_000, ExecutionMode::Parallel, 2, 5e6),
+            result(10_000, ExecutionMode::Parallel, 3, 4e5),
         ]
+    }
+
+    fn labels(title: &str) -> Labels<'_> {
+        Labels {
+            title,
+            footer: "Some CPU, 2 hardware threads · Kessler 0.1.0, commit abc123",
+        }
     }
 
     #[test]
@@ -282,7 +384,7 @@ mod tests {
             counts: 2,
             auto_worst: None,
         };
-        let svg = svg(&results(), &[crossover], "a < b").unwrap();
+        let svg = svg(&results(), &[crossover], labels("a < b")).unwrap();
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
         // Each text element's content stands on a line of its own.
         let has_text = |text: &str| svg.lines().any(|l| l.trim() == text);
@@ -290,12 +392,35 @@ mod tests {
         for text in [
             "sequential",
             "parallel, 2 threads, split always",
+            "parallel, 3 threads, split always",
             "whole update",
             "bodies",
             "crossover: 1000",
+            "Some CPU, 2 hardware threads · Kessler 0.1.0, commit abc123",
         ] {
             assert!(has_text(text), "missing {text}");
         }
+        // The x axis is labelled at the decades only, so no two labels meet.
+        for text in ["1 000", "10 000", "100 000"] {
+            assert!(has_text(text), "no tick {text}");
+        }
+        assert!(
+            !has_text("20000") && !has_text("90000") && !has_text("20 000"),
+            "a tick between decades"
+        );
+        // Every measured point of the whole update is marked, the third
+        // setting's single one included (a line through one point shows
+        // nothing).
+        let dots = |color: &str| {
+            svg.lines()
+                .filter(|l| l.contains("<circle") && l.contains("r=\"5\"") && l.contains(color))
+                .count()
+        };
+        assert_eq!(
+            (dots("#D62728"), dots("#1F77B4"), dots("#2CA02C")),
+            (2, 2, 1),
+            "{svg:.3000}"
+        );
         for stage in &STAGES {
             assert!(has_text(stage.label), "legend lacks {}", stage.label);
         }
@@ -305,6 +430,7 @@ mod tests {
             .lines()
             .filter(|l| l.contains("<polyline") && l.contains("stroke-width=\"3\"") && !l.contains("#000000"))
             .collect();
+        let thick: Vec<&str> = thick.into_iter().filter(|l| !l.contains("#2CA02C")).collect();
         assert_eq!(thick.len(), 2, "{thick:?}");
         assert!(
             thick[0].contains("#D62728") && thick[1].contains("#1F77B4"),
@@ -319,7 +445,7 @@ mod tests {
 
     #[test]
     fn png_shows_lines_and_text_on_white() {
-        let png = png(&results(), &[], "t").unwrap();
+        let png = png(&results(), &[], labels("t")).unwrap();
         let decoder = ::png::Decoder::new(std::io::Cursor::new(png));
         let mut reader = decoder.read_info().unwrap();
         let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
