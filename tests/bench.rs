@@ -31,6 +31,67 @@ fn bad_configs_are_clear_errors_and_write_nothing() {
     }
 }
 
+/// A thread sweep: its runs (sequential, then parallel on 1 up to every
+/// hardware thread) in the results, and its speed-ups (sequential's time
+/// over each parallel run's, from those same results) in
+/// `<stem>-threads.csv` and its plot.
+#[test]
+fn a_thread_sweep_writes_the_speedup_per_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("sweep.ron");
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis_cloud.ron");
+    std::fs::write(
+        &config,
+        format!(
+            r#"Bench(scenario: "{scenario}", runs: [Threads(bodies: 300, updates: 4), Run(bodies: 50, updates: 2)])"#
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("sweep-results.csv");
+    let result = kessler()
+        .arg("bench")
+        .arg(&config)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    let hardware = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 2 + hardware, "{csv}");
+    assert_eq!(&rows[0][4..6], ["sequential", "1"]);
+    for (k, row) in rows[1..=hardware].iter().enumerate() {
+        assert_eq!(&row[4..6], ["parallel", &(k + 1).to_string()], "{csv}");
+    }
+    let threads = std::fs::read_to_string(dir.path().join("sweep-results-threads.csv")).unwrap();
+    let lines: Vec<&str> = threads.lines().collect();
+    assert_eq!(
+        lines[0],
+        "bodies,threads,update_speedup,gravity_speedup,integrate_speedup,sort_speedup,sweep_speedup,response_speedup,shatter_speedup"
+    );
+    assert_eq!(lines.len(), 1 + hardware, "{threads}");
+    let ns = |row: &[&str]| row[6].parse::<f64>().unwrap();
+    for (k, line) in lines[1..].iter().enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(&cells[..2], ["300", &(k + 1).to_string()]);
+        let expected = ns(&rows[0]) / ns(&rows[1 + k]);
+        let got: f64 = cells[2].parse().unwrap();
+        assert!(
+            (got - expected).abs() <= 6e-4 * expected.max(1.0),
+            "{got} against {expected} (written to 3 decimals)"
+        );
+    }
+    for plot in ["sweep-results-threads.svg", "sweep-results-threads.png"] {
+        assert!(dir.path().join(plot).is_file(), "{plot} missing");
+    }
+    // A benchmark without a sweep writes none of these.
+    let plain = dir.path().join("plain.csv");
+    let result = run_tiny(dir.path(), &plain);
+    assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
+    assert!(!dir.path().join("plain-threads.csv").exists());
+}
+
 fn tiny_config(dir: &Path) -> PathBuf {
     let path = dir.join("tiny.ron");
     let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis_cloud.ron");

@@ -26,8 +26,17 @@ pub struct BenchConfig {
     /// turn, and each run reports its median pass (by update time).
     #[serde(default = "one_pass", deserialize_with = "repeat")]
     pub repeat: u32,
-    /// The runs, measured in this order in every pass.
+    /// The runs, measured in this order in every pass; once loaded, each
+    /// `Threads` entry stands as the runs it expands to.
     pub runs: Vec<BenchRun>,
+    /// Once loaded, the position in the file's `runs` of each of
+    /// [`Self::runs`] (a `Threads` entry's runs share its position).
+    #[serde(skip)]
+    pub origins: Vec<usize>,
+    /// The file's `Threads` entries: the thread sweeps whose speed-ups
+    /// `<stem>-threads.csv` gives.
+    #[serde(skip)]
+    pub sweeps: Vec<ThreadsRun>,
 }
 
 /// One entry of a config's `runs`.
@@ -37,6 +46,54 @@ pub enum BenchRun {
     Run(Run),
     /// Frames measured in the window (the window build only).
     Render(RenderRun),
+    /// The thesis's core-count axis at one body count: the run sequential,
+    /// then parallel on 1, 2, … up to every hardware thread of the machine
+    /// (as many runs), each with the sweep's split policy.
+    Threads(ThreadsRun),
+}
+
+/// A thread sweep (`Threads(...)` in a config's `runs`).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Threads")]
+pub struct ThreadsRun {
+    /// Bodies in the run.
+    #[serde(deserialize_with = "bodies")]
+    pub bodies: u64,
+    /// Updates measured.
+    #[serde(deserialize_with = "updates")]
+    pub updates: u64,
+    /// Split policy of the parallel runs (default `Always`, the thesis's
+    /// parallel mode, so that every thread count splits every stage).
+    #[serde(default = "always", deserialize_with = "sweep_split")]
+    pub split: SplitPolicy,
+}
+
+fn always() -> SplitPolicy {
+    SplitPolicy::Always
+}
+
+fn sweep_split<'de, D: Deserializer<'de>>(d: D) -> Result<SplitPolicy, D::Error> {
+    read(d, "split")
+}
+
+impl ThreadsRun {
+    /// The runs the sweep stands for on a machine with `threads` hardware
+    /// threads: sequential, then parallel on 1 to `threads` threads.
+    pub fn runs(&self, threads: usize) -> impl Iterator<Item = Run> + '_ {
+        let run = |mode, threads| Run {
+            bodies: self.bodies,
+            updates: self.updates,
+            mode,
+            threads,
+            stages: Stages::default(),
+            split: (mode == ExecutionMode::Parallel).then_some(self.split),
+            seed: None,
+            shatter_fragments: None,
+            shatter_threshold: None,
+        };
+        std::iter::once(run(ExecutionMode::Sequential, Some(1)))
+            .chain((1..=threads.max(1)).map(move |t| run(ExecutionMode::Parallel, Some(t))))
+    }
 }
 
 /// Most passes a config may ask for.
@@ -180,7 +237,7 @@ fn ups<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
 impl BenchConfig {
     /// Reads and parses a config file.
     pub fn load(path: &Path) -> Result<Self, InputError> {
-        let config: Self = load_ron(path, Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)?;
+        let mut config: Self = load_ron(path, Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)?;
         let origin = || path.display().to_string();
         if config.runs.is_empty() {
             return Err(InputError::new(origin(), "field `runs`: lists no runs"));
@@ -194,14 +251,44 @@ impl BenchConfig {
                 ),
             ));
         }
+        config.expand_sweeps(crate::execution::available_threads());
         Ok(config)
+    }
+
+    /// Stands each `Threads` entry as its runs on a machine with `threads`
+    /// hardware threads, keeping where each run came from.
+    pub fn expand_sweeps(&mut self, threads: usize) {
+        let mut runs = Vec::new();
+        self.origins.clear();
+        self.sweeps.clear();
+        for (i, run) in std::mem::take(&mut self.runs).into_iter().enumerate() {
+            match run {
+                BenchRun::Threads(sweep) => {
+                    for run in sweep.runs(threads) {
+                        runs.push(BenchRun::Run(run));
+                        self.origins.push(i);
+                    }
+                    self.sweeps.push(sweep);
+                }
+                other => {
+                    runs.push(other);
+                    self.origins.push(i);
+                }
+            }
+        }
+        self.runs = runs;
+    }
+
+    /// Where the `i`-th run stands in the file's `runs`.
+    pub fn origin(&self, i: usize) -> usize {
+        self.origins.get(i).copied().unwrap_or(i)
     }
 
     /// The headless runs, with their positions in `runs`.
     pub fn update_runs(&self) -> impl Iterator<Item = (usize, &Run)> {
         self.runs.iter().enumerate().filter_map(|(i, r)| match r {
             BenchRun::Run(run) => Some((i, run)),
-            BenchRun::Render(_) => None,
+            BenchRun::Render(_) | BenchRun::Threads(_) => None,
         })
     }
 
@@ -209,7 +296,7 @@ impl BenchConfig {
     pub fn render_runs(&self) -> impl Iterator<Item = (usize, &RenderRun)> {
         self.runs.iter().enumerate().filter_map(|(i, r)| match r {
             BenchRun::Render(run) => Some((i, run)),
-            BenchRun::Run(_) => None,
+            BenchRun::Run(_) | BenchRun::Threads(_) => None,
         })
     }
 
@@ -242,7 +329,9 @@ impl BenchConfig {
                 let (bodies, scenario) = match run {
                     BenchRun::Run(run) => (run.bodies, run.apply_to(scenario)),
                     BenchRun::Render(run) => (run.bodies, scenario.clone()),
+                    BenchRun::Threads(sweep) => (sweep.bodies, scenario.clone()),
                 };
+                let i = self.origin(i);
                 let in_run = |e: &dyn std::fmt::Display| {
                     InputError::new(config_path.display().to_string(), format!("runs[{i}]: {e}"))
                 };

@@ -13,8 +13,10 @@ mod plot;
 mod render;
 mod report;
 mod run;
+mod threads;
+mod threads_plot;
 
-pub use config::{BenchConfig, BenchRun, MAX_REPEAT, RenderRun, Run, Stages};
+pub use config::{BenchConfig, BenchRun, MAX_REPEAT, RenderRun, Run, Stages, ThreadsRun};
 pub use crossover::{Crossover, Wins, crossovers};
 pub use dispatch::empty_step_ns;
 pub use machine::{machine_report, plot_footer, this_cpu, utc_now};
@@ -27,3 +29,5 @@ pub use report::{
     stage_columns, times_by_stage,
 };
 pub use run::{RunDefaults, RunError, RunResult, measure, median_pass};
+pub use threads::{ThreadsRow, thread_rows};
+pub use threads_plot::{threads_png, threads_svg};

@@ -6,7 +6,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{Crossover, Labels, OverheadRow, PassRow, RenderRow, RunResult, overhead_rows, plot_footer, png, svg};
+use super::{
+    Crossover, Labels, OverheadRow, PassRow, RenderRow, RunResult, ThreadsRow, overhead_rows, plot_footer, png, svg,
+    threads_png, threads_svg,
+};
 use crate::output::{
     AppendedFile, Output, OutputError, OutputProblem, WriteError, check_outputs, write_atomically, write_csv,
 };
@@ -33,6 +36,12 @@ pub struct BenchOutputs {
     pub plot_svg: PathBuf,
     /// `<stem>.png`: the plot.
     pub plot_png: PathBuf,
+    /// `<stem>-threads.csv`: the thread sweeps' speed-ups.
+    pub threads: PathBuf,
+    /// `<stem>-threads.svg`: their plot.
+    pub threads_svg: PathBuf,
+    /// `<stem>-threads.png`: their plot.
+    pub threads_png: PathBuf,
 }
 
 /// Why the outputs could not be written.
@@ -95,6 +104,8 @@ pub struct Finished {
     pub crossover: bool,
     /// The plot.
     pub plot: bool,
+    /// The thread speed-ups and their plot.
+    pub threads: bool,
 }
 
 impl BenchOutputs {
@@ -114,11 +125,14 @@ impl BenchOutputs {
             render: sibling("-render.csv"),
             plot_svg: sibling(".svg"),
             plot_png: sibling(".png"),
+            threads: sibling("-threads.csv"),
+            threads_svg: sibling("-threads.svg"),
+            threads_png: sibling("-threads.png"),
         }
     }
 
     /// Every output path, results first.
-    pub fn paths(&self) -> [&Path; 8] {
+    pub fn paths(&self) -> [&Path; 11] {
         [
             &self.results,
             &self.passes,
@@ -128,11 +142,14 @@ impl BenchOutputs {
             &self.render,
             &self.plot_svg,
             &self.plot_png,
+            &self.threads,
+            &self.threads_svg,
+            &self.threads_png,
         ]
     }
 
     /// What each of [`Self::paths`] holds, in words.
-    const WHAT: [&'static str; 8] = [
+    const WHAT: [&'static str; 11] = [
         "results",
         "passes",
         "overhead",
@@ -141,6 +158,9 @@ impl BenchOutputs {
         "window runs",
         "SVG plot",
         "PNG plot",
+        "thread speed-ups",
+        "SVG thread plot",
+        "PNG thread plot",
     ];
 
     /// Refuses, before any run, if two outputs would be one file (`--out
@@ -181,12 +201,14 @@ impl BenchOutputs {
     }
 
     /// Writes the overhead report (the runs' pairs, then `empty_steps`),
-    /// the crossovers and the plot titled `title` of the headless results.
+    /// the crossovers, the plot titled `title` of the headless results,
+    /// and the thread sweeps' speed-ups and their plot if there are any.
     pub fn finish(
         &self,
         results: &[RunResult],
         empty_steps: &[OverheadRow],
         crossovers: &[Crossover],
+        threads: &[ThreadsRow],
         title: &str,
     ) -> Result<Finished, BenchOutputError> {
         let mut finished = Finished::default();
@@ -210,6 +232,19 @@ impl BenchOutputs {
         let plot = png(results, crossovers, labels)?;
         write_atomically(&self.plot_png, |w| w.write_all(&plot))?;
         finished.plot = true;
+        if !threads.is_empty() {
+            write_atomically(&self.threads, |w| write_csv(w, threads))?;
+            let title = title.replace("time per update", "speed-up against threads");
+            let labels = Labels {
+                title: &title,
+                footer: &footer,
+            };
+            let plot = threads_svg(threads, labels)?;
+            write_atomically(&self.threads_svg, |w| w.write_all(plot.as_bytes()))?;
+            let plot = threads_png(threads, labels)?;
+            write_atomically(&self.threads_png, |w| w.write_all(&plot))?;
+            finished.threads = true;
+        }
         Ok(finished)
     }
 }

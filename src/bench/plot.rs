@@ -32,9 +32,10 @@ const FOOTER_HEIGHT: u32 = 22;
 /// Width of the legend at the right.
 const LEGEND_WIDTH: u32 = 290;
 /// The font family every text is set in (registered as Ubuntu Light).
-const FONT: &str = "sans-serif";
-/// Colors of the execution settings, in turn.
-const SETTING_COLORS: [RGBColor; 6] = [
+pub(super) const FONT: &str = "sans-serif";
+/// Colors of the execution settings (and of the thread plot's body
+/// counts), in turn.
+pub(super) const SETTING_COLORS: [RGBColor; 6] = [
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
@@ -47,6 +48,22 @@ const SETTING_COLORS: [RGBColor; 6] = [
 #[derive(Debug, thiserror::Error)]
 #[error("plot: {0}")]
 pub struct PlotError(String);
+
+impl PlotError {
+    /// The error that `why` says.
+    pub(super) fn new(why: String) -> Self {
+        Self(why)
+    }
+}
+
+/// Registers the bundled font as [`FONT`], once.
+pub(super) fn register_font() {
+    static FONT_REGISTERED: Once = Once::new();
+    FONT_REGISTERED.call_once(|| {
+        // The bundled font is valid; if it were not, text would be missing.
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
+    });
+}
 
 /// The words around the data: the title at the top, the footer (the
 /// machine and the commit) at the bottom.
@@ -208,11 +225,7 @@ fn draw_on<DB: DrawingBackend>(
     crossovers: &[Crossover],
     labels: Labels<'_>,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    static FONT_REGISTERED: Once = Once::new();
-    FONT_REGISTERED.call_once(|| {
-        // The bundled font is valid; if it were not, text would be missing.
-        let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
-    });
+    register_font();
     let ms = |ns: f64| ns / 1e6;
     // Runs by execution setting, sequential first.
     let mut settings: BTreeMap<Setting, Vec<&RunResult>> = BTreeMap::new();

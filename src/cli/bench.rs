@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::Failure;
 use crate::bench::{
     self, BenchConfig, BenchOutputs, GrowingOutputs, OverheadRow, RenderRow, RunDefaults, RunResult, Wins, crossovers,
-    empty_step_ns, empty_step_row, machine_report, measure_render,
+    empty_step_ns, empty_step_row, machine_report, measure_render, thread_rows,
 };
 use crate::calibration::machine_auto_split;
 use crate::execution::SplitPolicy;
@@ -36,6 +36,7 @@ pub fn bench(
     if let Some((i, _)) = config.render_runs().next()
         && crate::ui::session::no_display()
     {
+        let i = config.origin(i);
         return Err(Failure::input(format!(
             "{}: runs[{i}]: `Render` runs open the window, and there is no X11 display (DISPLAY is not set): \
              run the benchmark in a desktop session or under `xvfb-run -a kessler bench ...`",
@@ -80,7 +81,7 @@ pub fn bench(
             run.frames
         );
         let report = measure_render(run, scenario_path.as_deref())
-            .map_err(|e| Failure::other(format!("{}: runs[{i}]: {e}", config_path.display())))?;
+            .map_err(|e| Failure::other(format!("{}: runs[{}]: {e}", config_path.display(), config.origin(i))))?;
 
         eprintln!(
             "  {:.1} FPS, mean {:.2} ms, p95 {:.2} ms",
@@ -97,7 +98,8 @@ pub fn bench(
     let empty_steps = if headless { measure_empty_steps()? } else { Vec::new() };
     let crossovers = crossovers(&passes, Wins::EveryPass);
     let title = format!("Kessler: {}, time per update", scenario.name);
-    let finished = outputs.finish(&results, &empty_steps, &crossovers, &title)?;
+    let threads = thread_rows(&config.sweeps, &results);
+    let finished = outputs.finish(&results, &empty_steps, &crossovers, &threads, &title)?;
     print_summary(&outputs, &results, &crossovers, finished, render);
     Ok(())
 }
@@ -161,6 +163,14 @@ fn print_summary(
             outputs.plot_png.display()
         ));
     }
+    if finished.threads {
+        written.push(format!(
+            "the speed-ups against threads to {}, plotted in {} and {}",
+            outputs.threads.display(),
+            outputs.threads_svg.display(),
+            outputs.threads_png.display()
+        ));
+    }
     println!("written: {}", written.join("; "));
 }
 
@@ -185,8 +195,10 @@ fn measure_passes(
         for (k, &(i, run)) in runs.iter().enumerate() {
             progress.start(i, pass, run);
             bench::reset_peak_memory();
-            let result = bench::measure(i + 1, &sized[i], run, defaults, |done| progress.advance(done))
-                .map_err(|e| Failure::from(e).context(format_args!("{}: runs[{i}]", config_path.display())))?;
+            let result =
+                bench::measure(i + 1, &sized[i], run, defaults, |done| progress.advance(done)).map_err(|e| {
+                    Failure::from(e).context(format_args!("{}: runs[{}]", config_path.display(), config.origin(i)))
+                })?;
             progress.finish(run, &result, bench::peak_memory());
             growing.add_pass(pass, &result)?;
             measured[k].push(result);
