@@ -33,9 +33,8 @@ const FOOTER_HEIGHT: u32 = 22;
 const LEGEND_WIDTH: u32 = 290;
 /// The font family every text is set in (registered as Ubuntu Light).
 pub(super) const FONT: &str = "sans-serif";
-/// Colors of the execution settings (and of the thread plot's body
-/// counts), in turn.
-pub(super) const SETTING_COLORS: [RGBColor; 6] = [
+/// Colors of the execution settings, in turn.
+const SETTING_COLORS: [RGBColor; 6] = [
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
@@ -142,6 +141,19 @@ macro_rules! stage_marker {
     };
 }
 
+/// `n` in groups of three digits (`100 000`).
+pub(super) fn grouped(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
 /// Whether `v` is a power of ten (to a rounding), the only ticks labelled.
 #[expect(clippy::disallowed_methods, reason = "a plot's axis, not the state")]
 fn is_decade(v: f64) -> bool {
@@ -154,15 +166,7 @@ fn decade_label(v: f64) -> String {
     if !is_decade(v) {
         String::new()
     } else if v >= 1.0 {
-        let digits = format!("{v:.0}");
-        let mut out = String::new();
-        for (i, c) in digits.chars().enumerate() {
-            if i > 0 && (digits.len() - i).is_multiple_of(3) {
-                out.push(' ');
-            }
-            out.push(c);
-        }
-        out
+        grouped(v as u64)
     } else {
         format!("{v}")
     }

@@ -9,9 +9,24 @@ use std::collections::BTreeMap;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{FONT, Labels, PLOT_SIZE, PlotError, SETTING_COLORS, register_font};
+use super::plot::{FONT, Labels, PLOT_SIZE, PlotError, grouped, register_font};
 use super::threads::ThreadsRow;
 use crate::output::write_png;
+
+/// Colors of the body counts, in turn: ten that tell apart (the thesis's
+/// sweeps have nine counts).
+const COLORS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
 
 /// The plot as an SVG document.
 pub fn threads_svg(rows: &[ThreadsRow], labels: Labels<'_>) -> Result<String, PlotError> {
@@ -101,10 +116,10 @@ fn draw_on<DB: DrawingBackend>(
         .label("ideal: speed-up = threads")
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], gray.stroke_width(1)));
     for (i, (bodies, points)) in by_bodies.iter().enumerate() {
-        let color = SETTING_COLORS[i % SETTING_COLORS.len()];
+        let color = COLORS[i % COLORS.len()];
         chart
             .draw_series(LineSeries::new(points.iter().copied(), color.stroke_width(2)))?
-            .label(format!("{bodies} bodies"))
+            .label(format!("{} bodies", grouped(*bodies)))
             .legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()));
         chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled())))?;
     }
@@ -142,8 +157,8 @@ mod tests {
         let svg = threads_svg(&rows, labels).unwrap();
         let has_text = |text: &str| svg.lines().any(|l| l.trim() == text);
         for text in [
-            "1000 bodies",
-            "100000 bodies",
+            "1 000 bodies",
+            "100 000 bodies",
             "ideal: speed-up = threads",
             "threads",
             "Some CPU · commit abc",
