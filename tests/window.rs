@@ -232,6 +232,49 @@ fn window_shows_the_planet_and_the_bodies() {
     );
 }
 
+/// The thesis scene, 10 000 unit cubes about 2 500 units from the camera,
+/// reads as a cloud: each body keeps a least size on screen, so a tenth of
+/// the view below the HUD is lit by bodies (sub-pixel dots lit under half
+/// a percent), while the stars alone, smaller and dimmer than any body,
+/// light under one percent and never brightly.
+#[test]
+fn the_thesis_cloud_reads_as_a_cloud_and_the_stars_stay_dim() {
+    if !window_available("the_thesis_cloud_reads_as_a_cloud_and_the_stars_stay_dim") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thesis_cloud.ron");
+    let (cloud, ..) = run_window(dir.path(), "cloud", "()", &[scene]);
+    let (sky, ..) = run_window(dir.path(), "sky", "(render_bodies: false)", &[scene]);
+    let (cloud, sky) = (Picture::load(&cloud), Picture::load(&sky));
+    let (cx, cy) = (cloud.width as i64 / 2, cloud.height as i64 / 2);
+    // The view below the HUD (which reaches down to about 480 of 800
+    // pixels), right of the panel (about 340 of 1280), away from the
+    // planet.
+    let around: Vec<(usize, usize)> = cloud
+        .scene_pixels()
+        .filter(|&(x, y)| {
+            x > 360 && y * 8 > cloud.height * 5 && (x as i64 - cx).pow(2) + (y as i64 - cy).pow(2) > 120 * 120
+        })
+        .collect();
+    let lit = |picture: &Picture| {
+        around
+            .iter()
+            .filter(|&&(x, y)| picture.pixel(x, y).iter().any(|&c| c > 60))
+            .count() as f64
+            / around.len() as f64
+    };
+    let (bodies, stars) = (lit(&cloud), lit(&sky));
+    assert!(bodies > 0.03, "only {:.2} % of the view shows bodies", bodies * 100.0);
+    assert!(stars < 0.01, "the stars alone light {:.2} % of the view", stars * 100.0);
+    let brightest_star = around
+        .iter()
+        .map(|&(x, y)| *sky.pixel(x, y).iter().max().unwrap())
+        .max()
+        .unwrap();
+    assert!(brightest_star < 140, "a star as bright as {brightest_star}");
+}
+
 #[test]
 fn a_benchmark_render_run_reports_frames_memory_and_gpu_memory() {
     if !window_available("a_benchmark_render_run_reports_frames_memory_and_gpu_memory") {

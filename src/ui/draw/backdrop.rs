@@ -51,7 +51,8 @@ fn spawn_backdrop(
         Name::new("Stars"),
         Mesh3d(meshes.add(starfield_mesh(STAR_COUNT, STAR_DISTANCE, 7))),
         MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::WHITE,
+            // Dimmer than any lit body, so the bodies stand out.
+            base_color: Color::srgb(0.42, 0.43, 0.47),
             unlit: true,
             // Seen from inside the sphere, whichever way they wind.
             cull_mode: None,
@@ -72,7 +73,10 @@ pub fn starfield_mesh(count: usize, radius: f32, seed: u64) -> Mesh {
         let phi = (rng.unit() as f32) * std::f32::consts::TAU;
         let r = (1.0 - z * z).max(0.0).sqrt();
         let dir = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-        let size = radius * 0.0007 * (1.0 + 2.0 * (rng.unit() as f32).powi(6));
+        // About 0.7 px from the center to a corner in an 800-px-high window
+        // (at most 1 px for the brightest): smaller than any body's least
+        // size on screen (the instanced shader's 1.25 px half-extent).
+        let size = radius * 0.0007 * (1.0 + 0.5 * (rng.unit() as f32).powi(6));
         let center = dir * radius;
         let (u, v) = dir.any_orthonormal_pair();
         for k in 0..3 {
