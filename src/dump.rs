@@ -30,13 +30,14 @@ crate::csv_row!(DumpRow<'_>, |row| {
 });
 
 /// Writes the header, one row per body (sorted by id) and, last, a
-/// comment line with the state's hash (`# state hash 0123456789abcdef`),
-/// which readers skip as they skip every line that starts with `#`.
-pub fn write_csv(bodies: &[BodyState], next_id: u64, mut out: impl Write) -> io::Result<()> {
+/// comment line with `hash`, the state's hash (`# state hash
+/// 0123456789abcdef`), which readers skip as they skip every line that
+/// starts with `#`.
+pub fn write_csv(bodies: &[BodyState], hash: StateHash, mut out: impl Write) -> io::Result<()> {
     BodyState::check_all_finite(bodies)?;
     let rows: Vec<DumpRow<'_>> = bodies.iter().map(DumpRow).collect();
     crate::output::write_csv(&mut out, &rows)?;
-    writeln!(out, "{}{}", HASH_LINE, StateHash::of(bodies, next_id))?;
+    writeln!(out, "{HASH_LINE}{hash}")?;
     out.flush()
 }
 
@@ -65,13 +66,13 @@ mod tests {
             spherical: true,
         };
         let mut out = Vec::new();
-        write_csv(&[body], 4, &mut out).unwrap();
+        write_csv(&[body], StateHash::of([body], 4), &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert_eq!(
             text,
             format!(
                 "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts\n3,0.1,-2,0.0000001,0.81694555,0,-0,4000,430,430,430,SourceAndAdopter,false\n# state hash {}\n",
-                StateHash::of(&[body], 4)
+                StateHash::of([body], 4)
             )
         );
         assert_eq!(

@@ -9,6 +9,7 @@
 //! and is left out, so a snapshot's hash is the hash of the run that
 //! continues from it. Written as sixteen lowercase hexadecimal digits.
 
+use std::borrow::Borrow;
 use std::fmt;
 use std::hash::Hasher as _;
 
@@ -27,22 +28,18 @@ pub struct StateHash(pub u64);
 const CHUNK: usize = 4096;
 
 impl StateHash {
-    /// The hash of `bodies` (sorted by id) and the next id.
-    pub fn of(bodies: &[BodyState], next_id: u64) -> Self {
-        debug_assert!(bodies.is_sorted_by_key(|b| b.id), "bodies in id order");
-        Self::in_order(bodies.len(), |i| &bodies[i], next_id)
-    }
-
     /// The hash of `bodies` in any order (ids unique) and the next id:
     /// each body's bytes put together as it comes, then taken in id order
     /// without sorting where the ids are dense (below four times the
     /// count, as fresh ids keep them), else through a sorted list of ids.
-    pub fn of_unordered(bodies: impl Iterator<Item = BodyState>, next_id: u64) -> Self {
+    pub fn of<B: Borrow<BodyState>>(bodies: impl IntoIterator<Item = B>, next_id: u64) -> Self {
+        let bodies = bodies.into_iter();
         let count = bodies.size_hint().0;
         let (mut ids, mut packed) = (Vec::with_capacity(count), Vec::with_capacity(count));
         for body in bodies {
+            let body = body.borrow();
             let mut bytes = [0u8; BODY_BYTES];
-            put_body(&mut bytes, &body);
+            put_body(&mut bytes, body);
             ids.push(body.id.0);
             packed.push(bytes);
         }
@@ -66,23 +63,6 @@ impl StateHash {
                 buffer.extend_from_slice(&packed[i as usize]);
             }
             hasher.write(&buffer);
-        }
-        hasher.write(&next_id.to_le_bytes());
-        Self(hasher.finish())
-    }
-
-    /// The hash of the `count` bodies `body(0)`, `body(1)` … (in id order)
-    /// and the next id.
-    fn in_order<'a>(count: usize, body: impl Fn(usize) -> &'a BodyState, next_id: u64) -> Self {
-        let mut hasher = XxHash64::with_seed(0);
-        let mut buffer = vec![0u8; BODY_BYTES * CHUNK.min(count)];
-        for start in (0..count).step_by(CHUNK) {
-            let end = (start + CHUNK).min(count);
-            let bytes = &mut buffer[..BODY_BYTES * (end - start)];
-            for (slot, i) in bytes.chunks_exact_mut(BODY_BYTES).zip(start..end) {
-                put_body(slot.try_into().expect("BODY_BYTES long"), body(i));
-            }
-            hasher.write(bytes);
         }
         hasher.write(&next_id.to_le_bytes());
         Self(hasher.finish())
@@ -174,7 +154,7 @@ mod tests {
         bytes.extend(9u64.to_le_bytes());
         let mut h = XxHash64::with_seed(0);
         h.write(&bytes);
-        assert_eq!(StateHash::of(&bodies, 9).0, h.finish());
+        assert_eq!(StateHash::of(bodies, 9).0, h.finish());
         assert_eq!(StateHash(0xab).to_string(), "00000000000000ab");
     }
 
@@ -202,12 +182,9 @@ mod tests {
         }
         assert_ne!(StateHash::of(&base, 4), hash);
         let reversed: Vec<BodyState> = base.iter().rev().copied().collect();
-        assert_eq!(StateHash::of_unordered(reversed.into_iter(), 3), hash, "dense ids");
+        assert_eq!(StateHash::of(reversed, 3), hash, "dense ids");
         let (far, sparse) = ([body(1), body(2_000_000)], [body(2_000_000), body(1)]);
-        assert_eq!(
-            StateHash::of_unordered(sparse.into_iter(), 2_000_001),
-            StateHash::of(&far, 2_000_001)
-        );
+        assert_eq!(StateHash::of(sparse, 2_000_001), StateHash::of(far, 2_000_001));
         assert_ne!(StateHash::of(&base[..1], 3), hash);
         let mut moved = base.clone();
         moved[0].previous = Vec3::splat(9.0);

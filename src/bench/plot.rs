@@ -48,20 +48,54 @@ const SETTING_COLORS: [RGBColor; 6] = [
 #[error("plot: {0}")]
 pub struct PlotError(String);
 
-impl PlotError {
-    /// The error that `why` says.
-    pub(super) fn new(why: String) -> Self {
-        Self(why)
-    }
+/// A figure of [`PLOT_SIZE`], drawn alike as SVG and as PNG.
+pub(super) trait Figure {
+    /// Draws the figure on `root`.
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>)
+    -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>;
 }
 
-/// Registers the bundled font as [`FONT`], once.
-pub(super) fn register_font() {
+/// `figure` as an SVG document.
+pub(super) fn figure_svg(figure: &impl Figure) -> Result<String, PlotError> {
+    let mut text = String::new();
+    figure
+        .draw(SVGBackend::with_string(&mut text, PLOT_SIZE).into_drawing_area())
+        .map_err(|e| PlotError(e.to_string()))?;
+    Ok(text)
+}
+
+/// `figure` as a PNG image.
+pub(super) fn figure_png(figure: &impl Figure) -> Result<Vec<u8>, PlotError> {
+    let (width, height) = PLOT_SIZE;
+    let mut rgb = vec![0u8; (width * height * 3) as usize];
+    figure
+        .draw(BitMapBackend::with_buffer(&mut rgb, PLOT_SIZE).into_drawing_area())
+        .map_err(|e| PlotError(e.to_string()))?;
+    let mut png = Vec::new();
+    write_png(&mut png, width, height, &rgb).map_err(|e| PlotError(e.to_string()))?;
+    Ok(png)
+}
+
+/// Readies a figure's page: the bundled font registered as [`FONT`]
+/// (once), the page white, `footer` written along the bottom; returns the
+/// area above the footer.
+pub(super) fn page<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    footer: &str,
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
     static FONT_REGISTERED: Once = Once::new();
     FONT_REGISTERED.call_once(|| {
         // The bundled font is valid; if it were not, text would be missing.
         let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
     });
+    root.fill(&WHITE)?;
+    let (above, footer_area) = root.split_vertically(PLOT_SIZE.1 - FOOTER_HEIGHT);
+    footer_area.draw(&Text::new(
+        footer.to_owned(),
+        (12, 2),
+        (FONT, 12).into_font().color(&RGBColor(90, 90, 90)),
+    ))?;
+    Ok(above)
 }
 
 /// The words around the data: the title at the top, the footer (the
@@ -76,29 +110,36 @@ pub struct Labels<'a> {
 
 /// The plot as an SVG document.
 pub fn svg(results: &[RunResult], crossovers: &[Crossover], labels: Labels<'_>) -> Result<String, PlotError> {
-    let mut text = String::new();
-    draw(
-        SVGBackend::with_string(&mut text, PLOT_SIZE).into_drawing_area(),
+    figure_svg(&RunsPlot {
         results,
         crossovers,
         labels,
-    )?;
-    Ok(text)
+    })
 }
 
 /// The plot as a PNG image.
 pub fn png(results: &[RunResult], crossovers: &[Crossover], labels: Labels<'_>) -> Result<Vec<u8>, PlotError> {
-    let (width, height) = PLOT_SIZE;
-    let mut rgb = vec![0u8; (width * height * 3) as usize];
-    draw(
-        BitMapBackend::with_buffer(&mut rgb, PLOT_SIZE).into_drawing_area(),
+    figure_png(&RunsPlot {
         results,
         crossovers,
         labels,
-    )?;
-    let mut png = Vec::new();
-    write_png(&mut png, width, height, &rgb).map_err(|e| PlotError(e.to_string()))?;
-    Ok(png)
+    })
+}
+
+/// The runs' plot: what [`svg`] and [`png`] draw.
+struct RunsPlot<'a> {
+    results: &'a [RunResult],
+    crossovers: &'a [Crossover],
+    labels: Labels<'a>,
+}
+
+impl Figure for RunsPlot<'_> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        draw_on(root, self.results, self.crossovers, self.labels)
+    }
 }
 
 /// Dash length and gap of the `k`-th stage's line, pixels.
@@ -214,22 +255,12 @@ fn setting_name((mode, threads, split): &Setting) -> String {
     }
 }
 
-fn draw<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
-    results: &[RunResult],
-    crossovers: &[Crossover],
-    labels: Labels<'_>,
-) -> Result<(), PlotError> {
-    draw_on(root, results, crossovers, labels).map_err(|e| PlotError(e.to_string()))
-}
-
 fn draw_on<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     results: &[RunResult],
     crossovers: &[Crossover],
     labels: Labels<'_>,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    register_font();
     let ms = |ns: f64| ns / 1e6;
     // Runs by execution setting, sequential first.
     let mut settings: BTreeMap<Setting, Vec<&RunResult>> = BTreeMap::new();
@@ -244,13 +275,7 @@ fn draw_on<DB: DrawingBackend>(
             .map(ms),
     );
 
-    root.fill(&WHITE)?;
-    let (root, footer_area) = root.split_vertically(PLOT_SIZE.1 - FOOTER_HEIGHT);
-    footer_area.draw(&Text::new(
-        labels.footer.to_owned(),
-        (12, 2),
-        (FONT, 12).into_font().color(&RGBColor(90, 90, 90)),
-    ))?;
+    let root = page(root, labels.footer)?;
     let (plot_area, legend_area) = root.split_horizontally(PLOT_SIZE.0 - LEGEND_WIDTH);
     let mut chart = ChartBuilder::on(&plot_area)
         .caption(labels.title, (FONT, 18))

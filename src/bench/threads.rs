@@ -33,10 +33,15 @@ impl ThreadsRow {
 
 /// The rows of every sweep of `sweeps` found in `results` (medians): for
 /// each sweep's sequential run, one row per thread count of its parallel
-/// runs (the first result of each), in thread order.
+/// runs (the first result of each), in thread order. A second sweep at a
+/// body count already swept adds no rows (its thread counts are the
+/// first's).
 pub fn thread_rows(sweeps: &[ThreadsRun], results: &[RunResult]) -> Vec<ThreadsRow> {
     let mut rows = Vec::new();
-    for sweep in sweeps {
+    for (k, sweep) in sweeps.iter().enumerate() {
+        if sweeps[..k].iter().any(|s| s.bodies == sweep.bodies) {
+            continue;
+        }
         let same = |r: &&RunResult| r.bodies == sweep.bodies;
         let Some(sequential) = results
             .iter()
@@ -57,12 +62,6 @@ pub fn thread_rows(sweeps: &[ThreadsRun], results: &[RunResult]) -> Vec<ThreadsR
                 .zip(times_by_stage(run))
                 .map(|((_, s), (_, p))| (s > 0.0 && p > 0.0).then(|| s / p))
                 .collect();
-            if rows
-                .iter()
-                .any(|r: &ThreadsRow| r.bodies == sweep.bodies && r.threads == run.threads)
-            {
-                continue;
-            }
             rows.push(ThreadsRow {
                 bodies: sweep.bodies,
                 threads: run.threads,

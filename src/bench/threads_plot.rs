@@ -9,9 +9,8 @@ use std::collections::BTreeMap;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{FONT, Labels, PLOT_SIZE, PlotError, grouped, register_font};
+use super::plot::{FONT, Figure, Labels, PlotError, figure_png, figure_svg, grouped, page};
 use super::threads::ThreadsRow;
-use crate::output::write_png;
 
 /// Colors of the body counts, in turn: ten that tell apart (the thesis's
 /// sweeps have nine counts).
@@ -30,35 +29,27 @@ const COLORS: [RGBColor; 10] = [
 
 /// The plot as an SVG document.
 pub fn threads_svg(rows: &[ThreadsRow], labels: Labels<'_>) -> Result<String, PlotError> {
-    let mut text = String::new();
-    draw(
-        SVGBackend::with_string(&mut text, PLOT_SIZE).into_drawing_area(),
-        rows,
-        labels,
-    )?;
-    Ok(text)
+    figure_svg(&ThreadsPlot { rows, labels })
 }
 
 /// The plot as a PNG image.
 pub fn threads_png(rows: &[ThreadsRow], labels: Labels<'_>) -> Result<Vec<u8>, PlotError> {
-    let (width, height) = PLOT_SIZE;
-    let mut rgb = vec![0u8; (width * height * 3) as usize];
-    draw(
-        BitMapBackend::with_buffer(&mut rgb, PLOT_SIZE).into_drawing_area(),
-        rows,
-        labels,
-    )?;
-    let mut png = Vec::new();
-    write_png(&mut png, width, height, &rgb).map_err(|e| PlotError::new(e.to_string()))?;
-    Ok(png)
+    figure_png(&ThreadsPlot { rows, labels })
 }
 
-fn draw<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
-    rows: &[ThreadsRow],
-    labels: Labels<'_>,
-) -> Result<(), PlotError> {
-    draw_on(root, rows, labels).map_err(|e| PlotError::new(e.to_string()))
+/// What [`threads_svg`] and [`threads_png`] draw.
+struct ThreadsPlot<'a> {
+    rows: &'a [ThreadsRow],
+    labels: Labels<'a>,
+}
+
+impl Figure for ThreadsPlot<'_> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        draw_on(root, self.rows, self.labels)
+    }
 }
 
 fn draw_on<DB: DrawingBackend>(
@@ -66,7 +57,6 @@ fn draw_on<DB: DrawingBackend>(
     rows: &[ThreadsRow],
     labels: Labels<'_>,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    register_font();
     let mut by_bodies: BTreeMap<u64, Vec<(f64, f64)>> = BTreeMap::new();
     for row in rows {
         if let Some(speedup) = row.update() {
@@ -78,13 +68,7 @@ fn draw_on<DB: DrawingBackend>(
     }
     let most_threads = rows.iter().map(|r| r.threads).max().unwrap_or(1).max(2) as f64;
     let most_speedup = by_bodies.values().flatten().map(|p| p.1).fold(most_threads, f64::max);
-    root.fill(&WHITE)?;
-    let (root, footer) = root.split_vertically(PLOT_SIZE.1 - 22);
-    footer.draw(&Text::new(
-        labels.footer.to_owned(),
-        (12, 2),
-        (FONT, 12).into_font().color(&RGBColor(90, 90, 90)),
-    ))?;
+    let root = page(root, labels.footer)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(labels.title, (FONT, 18))
         .margin(12)

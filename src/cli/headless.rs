@@ -132,7 +132,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
     let failed = |flag: &str, e: WriteError| Failure::other(format!("{flag} {e}; no output was written"));
     let mut staged = Vec::new();
     if let Some(path) = dump_path {
-        staged.push(stage(path, |w| dump::write_csv(&bodies, next_id, w)).map_err(|e| failed("--dump", e))?);
+        staged.push(stage(path, |w| dump::write_csv(&bodies, hash, w)).map_err(|e| failed("--dump", e))?);
     }
     if let (Some((path, _)), Some(timeline)) = (outputs.timeline, &timeline) {
         staged.push(stage(path, |w| timeline.write_csv(w)).map_err(|e| failed("--timeline", e))?);
