@@ -9,6 +9,7 @@ pub mod cli;
 pub mod components;
 pub mod draw_method;
 pub mod dump;
+pub mod ensemble;
 pub mod execution;
 pub mod input;
 pub mod maths;

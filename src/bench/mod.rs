@@ -16,13 +16,14 @@ mod run;
 mod threads;
 mod threads_plot;
 
+pub use crate::output::{Labels, PLOT_SIZE, PlotError};
 pub use config::{BenchConfig, BenchRun, MAX_REPEAT, RenderRun, Run, Stages, ThreadsRun};
 pub use crossover::{Crossover, Wins, crossovers};
 pub use dispatch::empty_step_ns;
 pub use machine::{machine_report, plot_footer, this_cpu, utc_now};
 pub use memory::{peak_memory, reset_peak_memory};
 pub use outputs::{BenchOutputError, BenchOutputs, Finished, GrowingOutputs};
-pub use plot::{Labels, PLOT_SIZE, PlotError, png, svg};
+pub use plot::{png, svg};
 pub use render::{FrameReport, RenderRow, RenderRunError, WINDOW_WARMUP_FRAMES, child_args, measure_render};
 pub use report::{
     CONTRACT_STAGE_COLUMNS, OverheadRow, PassRow, column_ns, columns_in_stage_order, empty_step_row, overhead_rows,

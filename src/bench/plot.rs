@@ -13,7 +13,6 @@
 //! system fonts.
 
 use std::collections::BTreeMap;
-use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
@@ -22,17 +21,11 @@ use plotters::prelude::*;
 use super::crossover::Crossover;
 use super::run::RunResult;
 use crate::execution::{ExecutionMode, SplitPolicy};
-use crate::output::write_png;
+use crate::output::{FONT, Figure, Labels, PLOT_SIZE, PlotError, figure_png, figure_svg, grouped, page};
 use crate::systems::STAGES;
 
-/// Width and height of the plot in pixels.
-pub const PLOT_SIZE: (u32, u32) = (1060, 640);
-/// Height of the footer at the bottom.
-const FOOTER_HEIGHT: u32 = 22;
 /// Width of the legend at the right.
 const LEGEND_WIDTH: u32 = 290;
-/// The font family every text is set in (registered as Ubuntu Light).
-pub(super) const FONT: &str = "sans-serif";
 /// Colors of the execution settings, in turn.
 const SETTING_COLORS: [RGBColor; 6] = [
     RGBColor(214, 39, 40),
@@ -42,71 +35,6 @@ const SETTING_COLORS: [RGBColor; 6] = [
     RGBColor(255, 127, 14),
     RGBColor(140, 86, 75),
 ];
-
-/// The plot could not be drawn.
-#[derive(Debug, thiserror::Error)]
-#[error("plot: {0}")]
-pub struct PlotError(String);
-
-/// A figure of [`PLOT_SIZE`], drawn alike as SVG and as PNG.
-pub(super) trait Figure {
-    /// Draws the figure on `root`.
-    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>)
-    -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>;
-}
-
-/// `figure` as an SVG document.
-pub(super) fn figure_svg(figure: &impl Figure) -> Result<String, PlotError> {
-    let mut text = String::new();
-    figure
-        .draw(SVGBackend::with_string(&mut text, PLOT_SIZE).into_drawing_area())
-        .map_err(|e| PlotError(e.to_string()))?;
-    Ok(text)
-}
-
-/// `figure` as a PNG image.
-pub(super) fn figure_png(figure: &impl Figure) -> Result<Vec<u8>, PlotError> {
-    let (width, height) = PLOT_SIZE;
-    let mut rgb = vec![0u8; (width * height * 3) as usize];
-    figure
-        .draw(BitMapBackend::with_buffer(&mut rgb, PLOT_SIZE).into_drawing_area())
-        .map_err(|e| PlotError(e.to_string()))?;
-    let mut png = Vec::new();
-    write_png(&mut png, width, height, &rgb).map_err(|e| PlotError(e.to_string()))?;
-    Ok(png)
-}
-
-/// Readies a figure's page: the bundled font registered as [`FONT`]
-/// (once), the page white, `footer` written along the bottom; returns the
-/// area above the footer.
-pub(super) fn page<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
-    footer: &str,
-) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
-    static FONT_REGISTERED: Once = Once::new();
-    FONT_REGISTERED.call_once(|| {
-        // The bundled font is valid; if it were not, text would be missing.
-        let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
-    });
-    root.fill(&WHITE)?;
-    let (above, footer_area) = root.split_vertically(PLOT_SIZE.1 - FOOTER_HEIGHT);
-    footer_area.draw(&Text::new(
-        footer.to_owned(),
-        (12, 2),
-        (FONT, 12).into_font().color(&RGBColor(90, 90, 90)),
-    ))?;
-    Ok(above)
-}
-
-/// The words around the data: the title at the top, the footer (the
-/// machine and the commit) at the bottom.
-#[derive(Clone, Copy, Debug)]
-pub struct Labels<'a> {
-    /// The title.
-    pub title: &'a str,
-    /// The footer.
-    pub footer: &'a str,
-}
 
 /// The plot as an SVG document.
 pub fn svg(results: &[RunResult], crossovers: &[Crossover], labels: Labels<'_>) -> Result<String, PlotError> {
@@ -180,19 +108,6 @@ macro_rules! stage_marker {
             }
         }
     };
-}
-
-/// `n` in groups of three digits (`100 000`).
-pub(super) fn grouped(n: u64) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(' ');
-        }
-        out.push(c);
-    }
-    out
 }
 
 /// Whether `v` is a power of ten (to a rounding), the only ticks labelled.

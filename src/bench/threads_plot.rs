@@ -9,8 +9,8 @@ use std::collections::BTreeMap;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{FONT, Figure, Labels, PlotError, figure_png, figure_svg, grouped, page};
 use super::threads::ThreadsRow;
+use crate::output::{FONT, Figure, Labels, PlotError, figure_png, figure_svg, grouped, page};
 
 /// Colors of the body counts, in turn: ten that tell apart (the thesis's
 /// sweeps have nine counts).

@@ -71,10 +71,76 @@ pub enum Command {
         #[arg(long, value_name = "FILE")]
         out: Option<PathBuf>,
     },
+    /// Run many seeds and settings of one scenario (an ensemble) on this
+    /// machine or as a Slurm job array, resumable, summed up into bands.
+    Ensemble(EnsembleArgs),
     /// Check a scenario file: exit code 0, or a clear error and exit code 2.
     Validate {
         /// Scenario file (RON).
         scenario: PathBuf,
+    },
+}
+
+/// `kessler ensemble CONFIG --out DIR`, or one of its subcommands.
+#[derive(Debug, Clone, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct EnsembleArgs {
+    /// Ensemble config (RON), e.g. ensembles/quick.ron.
+    #[arg(required = true)]
+    pub config: Option<PathBuf>,
+    /// The ensemble's folder: made if missing; running the same command
+    /// again resumes it (on a file system every node sees, for Slurm).
+    #[arg(long, value_name = "DIR", required = true)]
+    pub out: Option<PathBuf>,
+    /// Where the members run.
+    #[arg(long, value_enum, default_value_t = Executor::Local)]
+    pub executor: Executor,
+    /// Members at once: local processes [default: hardware threads ÷ the
+    /// config's threads], or Slurm's array throttle (`%J`) [default: none].
+    #[arg(long, value_name = "J", value_parser = crate::input::jobs_arg, allow_negative_numbers = true)]
+    pub jobs: Option<usize>,
+    /// An option for `sbatch` (partition, account, time limit), e.g.
+    /// `--slurm-arg=--partition=short`; repeatable.
+    #[arg(long = "slurm-arg", value_name = "ARG", allow_hyphen_values = true)]
+    pub slurm_args: Vec<String>,
+    /// With `--executor slurm`: wait for the job array, then aggregate.
+    #[arg(long)]
+    pub wait: bool,
+    /// Look at or work on an ensemble's folder.
+    #[command(subcommand)]
+    pub action: Option<EnsembleAction>,
+}
+
+/// Where an ensemble's members run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Executor {
+    /// Member processes on this machine.
+    Local,
+    /// A Slurm job array, submitted with `sbatch`.
+    Slurm,
+}
+
+/// `kessler ensemble status|aggregate|member`.
+#[derive(Debug, Clone, Subcommand)]
+pub enum EnsembleAction {
+    /// Count the done, failed and missing members of an ensemble's folder.
+    Status {
+        /// The ensemble's folder.
+        dir: PathBuf,
+    },
+    /// Sum up the finished members: DIR/aggregate.csv and the plot
+    /// DIR/bodies.svg and .png.
+    Aggregate {
+        /// The ensemble's folder.
+        dir: PathBuf,
+    },
+    /// Run one member (what each local process and Slurm task runs).
+    Member {
+        /// The ensemble's folder.
+        dir: PathBuf,
+        /// The member's index, from 0.
+        #[arg(value_parser = clap::value_parser!(u64), allow_negative_numbers = true)]
+        index: u64,
     },
 }
 

@@ -7,7 +7,9 @@ use clap::error::ErrorKind;
 
 use crate::output::printable;
 
-use super::{Cli, Command, EXIT_BAD_INPUT, Failure, RunArgs, bench, calibrate, headless, pairs, run, validate};
+use super::{
+    Cli, Command, EXIT_BAD_INPUT, Failure, RunArgs, bench, calibrate, ensemble, headless, pairs, run, validate,
+};
 
 /// Entry point of the binary.
 pub fn main() -> ExitCode {
@@ -55,6 +57,7 @@ fn dispatch(command: Option<Command>) -> Result<(), Failure> {
         } => bench::bench(&config, &out, split, gravity),
         Command::Calibrate { threads, out } => calibrate::calibrate_command(threads, out.as_deref()),
         Command::Pairs { scenario, execution } => pairs::pairs(&scenario, &execution),
+        Command::Ensemble(args) => ensemble::ensemble(&args),
         Command::Validate { scenario } => validate::validate(&scenario),
     }
 }

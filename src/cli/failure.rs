@@ -4,6 +4,7 @@
 use std::fmt;
 
 use crate::bench::{BenchOutputError, RunError};
+use crate::ensemble::EnsembleError;
 use crate::execution::ExecutionError;
 use crate::input::InputError;
 use crate::output::{OutputError, WriteError};
@@ -19,6 +20,9 @@ pub const EXIT_FAILURE: u8 = 1;
 /// Exit code for a simulation that stopped because its state could not be
 /// computed any more (a non-finite value, a pile-up of bodies).
 pub const EXIT_SIMULATION_STOPPED: u8 = 3;
+
+/// Exit code for a command stopped by Ctrl-C (128 + SIGINT).
+pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Why a command failed: one line for stderr and an exit code.
 #[derive(Debug)]
@@ -85,6 +89,24 @@ impl From<RunError> for Failure {
         let code = match e {
             RunError::Stopped(_) => EXIT_SIMULATION_STOPPED,
             _ => EXIT_BAD_INPUT,
+        };
+        Self {
+            message: e.to_string(),
+            code,
+        }
+    }
+}
+
+impl From<EnsembleError> for Failure {
+    fn from(e: EnsembleError) -> Self {
+        let code = match e {
+            EnsembleError::Input(_)
+            | EnsembleError::Output(_)
+            | EnsembleError::Execution(_)
+            | EnsembleError::Arguments(_) => EXIT_BAD_INPUT,
+            EnsembleError::Write(_) | EnsembleError::Failed(_) => EXIT_FAILURE,
+            EnsembleError::Stopped(_) => EXIT_SIMULATION_STOPPED,
+            EnsembleError::Interrupted(_) => EXIT_INTERRUPTED,
         };
         Self {
             message: e.to_string(),

@@ -4,6 +4,7 @@
 mod args;
 mod bench;
 mod calibrate;
+mod ensemble;
 mod entry;
 mod failure;
 mod headless;
@@ -11,6 +12,9 @@ mod pairs;
 mod run;
 mod validate;
 
-pub use args::{Cli, Command, ExecutionArgs, HeadlessArgs, ModeArg, OnOff, RenderArg, RunArgs};
+pub use args::{
+    Cli, Command, EnsembleAction, EnsembleArgs, ExecutionArgs, Executor, HeadlessArgs, ModeArg, OnOff, RenderArg,
+    RunArgs,
+};
 pub use entry::main;
-pub use failure::{EXIT_BAD_INPUT, EXIT_FAILURE, EXIT_SIMULATION_STOPPED, Failure};
+pub use failure::{EXIT_BAD_INPUT, EXIT_FAILURE, EXIT_INTERRUPTED, EXIT_SIMULATION_STOPPED, Failure};

@@ -7,7 +7,27 @@
 
 use std::fmt::Display;
 
-use serde::de::{Deserialize, Deserializer, Error};
+use serde::de::{Deserialize, Deserializer, Error, Visitor};
+
+/// A field's name, as the file writes it (an identifier): the key of a
+/// struct read field by field.
+pub struct FieldName(pub String);
+
+impl<'de> Deserialize<'de> for FieldName {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Name;
+        impl Visitor<'_> for Name {
+            type Value = FieldName;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a field name")
+            }
+            fn visit_str<E: Error>(self, v: &str) -> Result<FieldName, E> {
+                Ok(FieldName(v.to_owned()))
+            }
+        }
+        d.deserialize_identifier(Name)
+    }
+}
 
 /// Reads a `T`, naming `field` if the value is of the wrong type.
 pub fn read<'de, T: Deserialize<'de>, D: Deserializer<'de>>(d: D, field: &str) -> Result<T, D::Error> {

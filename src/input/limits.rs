@@ -34,6 +34,12 @@ pub fn threads_arg(text: &str) -> Result<usize, String> {
     whole_number(text, 1, crate::execution::MAX_THREADS as u64).map(|n| n as usize)
 }
 
+/// Parses a count of members at once (`kessler ensemble --jobs`): 1 to
+/// 10⁶, the most members an ensemble has.
+pub fn jobs_arg(text: &str) -> Result<usize, String> {
+    whole_number(text, 1, 1_000_000).map(|n| n as usize)
+}
+
 /// Parses a count of updates between two timeline rows (`--every`), or of
 /// frames (`--frames`): 1 to 10¹².
 pub fn positive_count_arg(text: &str) -> Result<u64, String> {

@@ -35,6 +35,9 @@ pub enum OutputProblem {
     /// symbolic link), which outputs neither replace nor write through.
     #[error(": is {0}; outputs replace regular files only")]
     NotRegular(&'static str),
+    /// Something other than a folder is where a folder should be.
+    #[error(": is {0}; give a folder")]
+    NotAFolder(&'static str),
     /// Its "folder" is a file.
     #[error(": {} is not a folder", .0.display())]
     FolderNotAFolder(PathBuf),

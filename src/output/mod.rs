@@ -6,6 +6,7 @@ mod appended;
 mod atomic;
 mod check;
 mod csv;
+mod figure;
 mod message;
 mod png_image;
 
@@ -16,5 +17,6 @@ pub use check::{
     check_outputs, check_replaceable, same_file,
 };
 pub use csv::{Cells, CsvRow, CsvTable, header, line, write_csv};
+pub use figure::{FONT, Figure, Labels, PLOT_SIZE, PlotError, figure_png, figure_svg, grouped, page};
 pub use message::printable;
 pub use png_image::write_png;

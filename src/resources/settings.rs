@@ -181,6 +181,41 @@ macro_rules! derive_settings {
                 })*
             }
 
+            /// Reads a list of values of the setting named `key` from
+            /// `map`, each checked by the setting's rule; each value comes
+            /// back as the defaults with that one setting changed (take it
+            /// over with [`Self::take`]). `Ok(None)` where no setting has
+            /// that name (the value is then not read).
+            pub fn read_values<'de, A: MapAccess<'de>>(key: &str, map: &mut A) -> Result<Option<Vec<Self>>, A::Error> {
+                match key {
+                    $(key!($field $($key)?) => {
+                        let values = map.next_value_seed(read::ListSeed(read::Seed::<$ty, _>::new(
+                            key!($field $($key)?), $rule, $ok,
+                        )))?;
+                        Ok(Some(values.into_iter().map(|value| Self { $field: value, ..Self::DEFAULT }).collect()))
+                    })*
+                    _ => Ok(None),
+                }
+            }
+
+            /// Takes `from`'s value of the setting named `key`; `false`
+            /// where no setting has that name.
+            pub fn take(&mut self, key: &str, from: &Self) -> bool {
+                match key {
+                    $(key!($field $($key)?) => self.$field = from.$field,)*
+                    _ => return false,
+                }
+                true
+            }
+
+            /// Writes the value of the setting named `key` through `out`.
+            pub fn serialize_value<S: serde::Serializer>(&self, key: &str, out: S) -> Result<S::Ok, S::Error> {
+                match key {
+                    $(key!($field $($key)?) => serde::Serialize::serialize(&self.$field, out),)*
+                    _ => Err(serde::ser::Error::custom(format!("no setting is named `{key}`"))),
+                }
+            }
+
             /// The value of the setting named `key`, as a file writes it.
             pub fn shown(&self, key: &str) -> Option<String> {
                 match key {
@@ -247,6 +282,33 @@ macro_rules! derive_settings {
 
                 fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<T, D::Error> {
                     T::read_checked(d, self.key, self.rule, self.ok)
+                }
+            }
+
+            /// A list of a setting's values, each read by the seed.
+            pub struct ListSeed<S>(pub S);
+
+            impl<'de, T: SettingValue, F: Fn(T) -> bool + Copy> DeserializeSeed<'de> for ListSeed<Seed<T, F>> {
+                type Value = Vec<T>;
+
+                fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Vec<T>, D::Error> {
+                    struct Values<T, F>(Seed<T, F>);
+                    impl<'de, T: SettingValue, F: Fn(T) -> bool + Copy> serde::de::Visitor<'de> for Values<T, F> {
+                        type Value = Vec<T>;
+
+                        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                            write!(f, "a list of values of `{}`", self.0.key)
+                        }
+
+                        fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<T>, A::Error> {
+                            let mut values = Vec::new();
+                            while let Some(value) = seq.next_element_seed(Seed::new(self.0.key, self.0.rule, self.0.ok))? {
+                                values.push(value);
+                            }
+                            Ok(values)
+                        }
+                    }
+                    d.deserialize_seq(Values(self.0))
                 }
             }
         }

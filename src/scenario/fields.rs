@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use super::checked;
 use super::format::Scenario;
+use crate::input::FieldName;
 use crate::resources::{SETTINGS, unknown_setting};
 
 /// The scenario's own fields, in file order (the settings come after
@@ -29,25 +30,6 @@ struct Name(#[serde(deserialize_with = "checked::name")] String);
 #[serde(transparent)]
 struct NextId(#[serde(deserialize_with = "checked::next_id")] Option<u64>);
 
-/// A field's name, as the file writes it (an identifier).
-struct Key(String);
-
-impl<'de> Deserialize<'de> for Key {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct KeyVisitor;
-        impl Visitor<'_> for KeyVisitor {
-            type Value = Key;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("a field name")
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<Key, E> {
-                Ok(Key(v.to_owned()))
-            }
-        }
-        d.deserialize_identifier(KeyVisitor)
-    }
-}
-
 impl<'de> Deserialize<'de> for Scenario {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         struct ScenarioVisitor;
@@ -59,7 +41,7 @@ impl<'de> Deserialize<'de> for Scenario {
             fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Scenario, A::Error> {
                 let mut scenario = Scenario::default();
                 let mut seen: Vec<String> = Vec::new();
-                while let Some(Key(key)) = map.next_key()? {
+                while let Some(FieldName(key)) = map.next_key()? {
                     if seen.contains(&key) {
                         return Err(de::Error::custom(format!("duplicate field `{key}`")));
                     }

@@ -1,0 +1,155 @@
+//! One member (`kessler ensemble member DIR INDEX`, what every executor's
+//! processes run): the folder's scenario with the member's combination of
+//! settings and its own seed, run for the ensemble's updates with a
+//! timeline row every `every`; its timeline and summary written
+//! atomically, then the `done` marker. A member that fails writes its
+//! `failed` marker instead, with its error.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::EnsembleError;
+use super::folder::{EnsembleFolder, Record, hash_text};
+use super::seeds::member_seed;
+use crate::Simulation;
+use crate::calibration::machine_auto_split;
+use crate::execution::{Execution, SplitPolicy};
+use crate::input::{InputError, read_text};
+use crate::output::{WriteError, printable, write_atomically};
+use crate::scenario::Scenario;
+use crate::timeline::Timeline;
+
+/// What `members/<index>/summary.ron` holds.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, rename = "Member")]
+pub struct MemberSummary {
+    /// The member's index in the ensemble.
+    pub index: u64,
+    /// Its combination of settings (`index / members`).
+    pub combination: u64,
+    /// Its place in the combination (`index % members`), which its seed is
+    /// mixed from.
+    pub member: u64,
+    /// Its seed.
+    pub seed: u64,
+    /// Its combination in words (`key=value ...`).
+    pub settings: String,
+    /// Updates run.
+    pub steps: u64,
+    /// Bodies at the start.
+    pub bodies_start: u64,
+    /// Bodies at the end.
+    pub bodies: u64,
+    /// Shatters over the run.
+    pub shatters: u64,
+    /// Shatters refused over the run.
+    pub refused_shatters: u64,
+    /// The final state's hash (docs/design.md, "State hash").
+    pub state_hash: String,
+    /// Seconds the member took, from loading the scenario to its last
+    /// file.
+    pub wall_seconds: f64,
+}
+
+/// The scenario member `index` of `record`'s ensemble runs: the folder's
+/// copy with the member's combination and seed.
+pub fn member_scenario(folder: &EnsembleFolder, record: &Record, index: u64) -> Result<Scenario, EnsembleError> {
+    let path = folder.scenario_path();
+    let text = read_text(&path)?;
+    if hash_text(text.as_bytes()) != record.scenario_hash {
+        return Err(EnsembleError::Input(InputError::new(
+            path.display().to_string(),
+            "changed since the ensemble started (its hash is not the one ensemble.ron names); start a new ensemble in another folder",
+        )));
+    }
+    let mut scenario = Scenario::parse(&text, &path.display().to_string())?;
+    let config = &record.config;
+    let (combination, member) = config.place(index);
+    config.vary.apply(combination, &mut scenario.physics);
+    scenario.physics.seed = member_seed(config.seed, member);
+    Ok(scenario)
+}
+
+/// Runs member `index` and writes its files; on failure, writes its
+/// `failed` marker (the error in one line) and returns the error.
+pub fn run_member(folder: &EnsembleFolder, record: &Record, index: u64) -> Result<MemberSummary, EnsembleError> {
+    let total = record.config.total_members();
+    if index >= total {
+        return Err(EnsembleError::Arguments(format!(
+            "INDEX {index}: the ensemble in {} has {total} members, 0 to {}",
+            folder.root().display(),
+            total - 1
+        )));
+    }
+    // Whatever an earlier, unfinished run of this member left goes first.
+    let dir = folder.member_dir(index);
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).map_err(|source| WriteError {
+            path: dir.clone(),
+            source,
+        })?;
+    }
+    std::fs::create_dir_all(&dir).map_err(|source| WriteError {
+        path: dir.clone(),
+        source,
+    })?;
+    let result = simulate_member(folder, record, index);
+    if let Err(e) = &result {
+        // Best effort: a member that cannot write its marker is still not
+        // done, and runs again on resume.
+        let _ = write_atomically(&folder.failed_marker(index), |w| {
+            writeln!(w, "{}", printable(&e.to_string()))
+        });
+    }
+    result
+}
+
+fn simulate_member(folder: &EnsembleFolder, record: &Record, index: u64) -> Result<MemberSummary, EnsembleError> {
+    let start = Instant::now();
+    let config = &record.config;
+    let scenario = member_scenario(folder, record, index)?;
+    let execution = Execution::new(config.mode, config.threads)?
+        .with_split(SplitPolicy::Auto)
+        .with_auto_split(machine_auto_split());
+    let mut sim = Simulation::from_scenario(&scenario, execution)?;
+    let bodies_start = sim.body_count() as u64;
+    let mut timeline = Timeline::new(config.every);
+    timeline.run(&mut sim, config.steps, |_| {});
+    if let Some(fault) = sim.check_state() {
+        return Err(EnsembleError::Stopped(format!("member {index}: {fault}")));
+    }
+    let stats = sim.collision_stats();
+    let (combination, member) = config.place(index);
+    write_atomically(&folder.timeline(index), |w| timeline.write_csv(w))?;
+    let mut summary = MemberSummary {
+        index,
+        combination,
+        member,
+        seed: scenario.physics.seed,
+        settings: config.vary.label(combination),
+        steps: config.steps,
+        bodies_start,
+        bodies: sim.body_count() as u64,
+        shatters: stats.shatters_total,
+        refused_shatters: stats.refused_total,
+        state_hash: sim.state_hash().to_string(),
+        wall_seconds: 0.0,
+    };
+    summary.wall_seconds = start.elapsed().as_secs_f64();
+    let text = ron::ser::to_string_pretty(&summary, ron::ser::PrettyConfig::new().struct_names(true))
+        .map_err(|e| EnsembleError::Failed(format!("member {index}: its summary: {e}")))?;
+    write_atomically(&folder.summary(index), |w| writeln!(w, "{text}"))?;
+    write_atomically(&folder.done_marker(index), |_| Ok(()))?;
+    Ok(summary)
+}
+
+/// Reads a finished member's summary.
+pub fn read_summary(folder: &EnsembleFolder, index: u64) -> Result<MemberSummary, InputError> {
+    let path = folder.summary(index);
+    crate::input::parse_ron(
+        &read_text(&path)?,
+        &path.display().to_string(),
+        ron::extensions::Extensions::empty(),
+    )
+}

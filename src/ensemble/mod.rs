@@ -1,0 +1,31 @@
+//! Ensembles (docs/guide.md, "Ensembles"): many seeds and settings of one
+//! scenario, each member a headless run with a timeline, on this machine or
+//! as a Slurm job array; one folder holds everything, so a run can always
+//! be resumed; the members are summed up into bands.
+//!
+//! `config` reads the config; `start` checks it and its folder and writes
+//! the folder's record; `seeds` mixes each member's seed; `member` runs
+//! one; `local` and `slurm` are the two executors; `aggregate` and `plot`
+//! sum the finished members up.
+
+mod aggregate;
+mod config;
+mod error;
+mod folder;
+mod local;
+mod member;
+mod plot;
+mod seeds;
+mod slurm;
+mod start;
+
+pub use aggregate::{AggregateRow, Aggregated, Series, Stats, aggregate, combination_rows, percentile, read_series};
+pub use config::{EnsembleConfig, MAX_MEMBERS, Varied, Vary};
+pub use error::EnsembleError;
+pub use folder::{Census, EnsembleFolder, MemberState, Record, SCENARIO_COPY, hash_text};
+pub use local::{LocalRun, run_local};
+pub use member::{MemberSummary, member_scenario, read_summary, run_member};
+pub use plot::{Band, BodiesPlot};
+pub use seeds::member_seed;
+pub use slurm::{array_spec, sbatch_script, submit, wait};
+pub use start::{Started, start};

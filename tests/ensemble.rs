@@ -1,0 +1,505 @@
+//! `kessler ensemble` through the binary with the local executor: a run,
+//! its folder and aggregate (the percentiles against a hand computation),
+//! resuming, a member killed half-way, Ctrl-C, and bad input. The Slurm
+//! executor's tests are in tests/ensemble_slurm.rs.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{assert_one_clear_line, corpus, expectation, kessler};
+
+/// The cascade scene, relative to a config in a temporary folder.
+fn cascade() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/cascade.ron")
+}
+
+/// Writes a config into `dir` and returns its path.
+fn config(dir: &Path, name: &str, fields: &str) -> PathBuf {
+    let path = dir.join(name);
+    let text = format!("Ensemble(scenario: {:?}, {fields})", cascade().display().to_string());
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// A small ensemble: two thresholds, three members each, 60 updates.
+const SMALL: &str = "steps: 60, every: 10, members: 3, seed: 5, vary: (shatter_threshold: [2.0, 4.0]), threads: 1";
+
+/// The binary as a plain command (to spawn and signal), blind to the
+/// user's own files like `common::kessler`.
+fn spawn(args: &[&std::ffi::OsStr]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_kessler"))
+        .args(args)
+        .env(
+            "XDG_CONFIG_HOME",
+            std::env::temp_dir().join("kessler-tests-without-config"),
+        )
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+fn read(path: impl AsRef<Path>) -> String {
+    std::fs::read_to_string(path.as_ref()).unwrap_or_else(|e| panic!("{}: {e}", path.as_ref().display()))
+}
+
+/// A member's files that must not depend on how or where it ran: its
+/// timeline, and its summary without the wall time.
+fn results(dir: &Path, index: u64) -> (String, String) {
+    let member = dir.join("members").join(index.to_string());
+    assert!(
+        member.join("done").is_file(),
+        "member {index} not done in {}",
+        dir.display()
+    );
+    let summary: String = read(member.join("summary.ron"))
+        .lines()
+        .filter(|l| !l.contains("wall_seconds"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    (read(member.join("timeline.csv")), summary)
+}
+
+/// A CSV file's cells of `column`, by row.
+fn column(text: &str, column: &str) -> Vec<String> {
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header
+        .iter()
+        .position(|c| *c == column)
+        .unwrap_or_else(|| panic!("no column {column}"));
+    lines.map(|l| l.split(',').nth(k).unwrap().to_owned()).collect()
+}
+
+fn numbers(text: &str, name: &str) -> Vec<f64> {
+    column(text, name).iter().map(|c| c.parse().unwrap()).collect()
+}
+
+#[test]
+fn an_ensemble_runs_sums_up_by_hand_and_resumes_without_rerunning() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "small.ron", SMALL);
+    let out = tmp.path().join("ens");
+    let run = kessler()
+        .arg("ensemble")
+        .arg(&cfg)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let said = String::from_utf8_lossy(&run.stdout);
+    assert!(said.contains("from 6 members in 2 combinations"), "{said}");
+    for file in [
+        "ensemble.ron",
+        "scenario.ron",
+        "aggregate.csv",
+        "bodies.svg",
+        "bodies.png",
+    ] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+    let record = read(out.join("ensemble.ron"));
+    for field in ["config_hash: \"", "scenario_hash: \"", "kessler: \"", "commit: \""] {
+        assert!(record.contains(field), "ensemble.ron lacks {field}:\n{record}");
+    }
+
+    // Every member: seven rows, a seed of its own, the same seed at the
+    // same place in both combinations.
+    let seed = |i: u64| {
+        let summary = read(out.join(format!("members/{i}/summary.ron")));
+        let line = summary
+            .lines()
+            .find(|l| l.trim().starts_with("seed:"))
+            .unwrap()
+            .to_owned();
+        line.trim()
+            .trim_start_matches("seed:")
+            .trim()
+            .trim_end_matches(',')
+            .parse::<u64>()
+            .unwrap()
+    };
+    let seeds: Vec<u64> = (0..6).map(seed).collect();
+    assert_eq!(&seeds[..3], &seeds[3..], "common random numbers");
+    assert!(seeds[0] != seeds[1] && seeds[1] != seeds[2] && seeds[0] != seeds[2]);
+    assert!(!seeds.contains(&5) && !seeds.contains(&6), "not seed + index");
+
+    // The aggregate against a hand computation from the members'
+    // timelines: with three members, sorted a ≤ b ≤ c, the 5th percentile
+    // is a + 0.1·(b − a), the median b, the 95th b + 0.9·(c − b).
+    let aggregate = read(out.join("aggregate.csv"));
+    let combination = column(&aggregate, "combination");
+    assert_eq!(aggregate.lines().count(), 1 + 2 * 7);
+    for c in 0..2u64 {
+        let timelines: Vec<String> = (0..3)
+            .map(|m| read(out.join(format!("members/{}/timeline.csv", c * 3 + m))))
+            .collect();
+        let rows: Vec<usize> = (0..combination.len())
+            .filter(|&r| combination[r] == c.to_string())
+            .collect();
+        assert_eq!(rows.len(), 7);
+        for (metric, member_column) in [
+            ("bodies", "bodies"),
+            ("kinetic_energy", "kinetic_energy"),
+            ("shatters", "shatters"),
+        ] {
+            let per_member: Vec<Vec<f64>> = timelines
+                .iter()
+                .map(|t| {
+                    let values = numbers(t, member_column);
+                    if metric == "shatters" {
+                        // Shatters since the previous row, summed up.
+                        values
+                            .iter()
+                            .scan(0.0, |so_far, s| {
+                                *so_far += s;
+                                Some(*so_far)
+                            })
+                            .collect()
+                    } else {
+                        values
+                    }
+                })
+                .collect();
+            let p5 = numbers(&aggregate, &format!("{metric}_p5"));
+            let median = numbers(&aggregate, &format!("{metric}_median"));
+            let p95 = numbers(&aggregate, &format!("{metric}_p95"));
+            let mean = numbers(&aggregate, &format!("{metric}_mean"));
+            for (k, &r) in rows.iter().enumerate() {
+                let mut v = [per_member[0][k], per_member[1][k], per_member[2][k]];
+                v.sort_by(f64::total_cmp);
+                let [a, b, c3] = v;
+                let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * y.abs().max(1.0);
+                assert!(
+                    close(p5[r], a + 0.1 * (b - a)),
+                    "{metric} p5 row {r}: {} vs {v:?}",
+                    p5[r]
+                );
+                assert!(close(median[r], b), "{metric} median row {r}");
+                assert!(
+                    close(p95[r], b + 0.9 * (c3 - b)),
+                    "{metric} p95 row {r}: {} vs {v:?}",
+                    p95[r]
+                );
+                assert!(close(mean[r], (a + b + c3) / 3.0), "{metric} mean row {r}");
+            }
+        }
+    }
+    assert_eq!(column(&aggregate, "settings")[0], "shatter_threshold=2");
+    assert!(column(&aggregate, "members").iter().all(|m| m == "3"));
+
+    // Status, then the same command again: nothing reruns.
+    let status = kessler().args(["ensemble", "status"]).arg(&out).output().unwrap();
+    assert!(String::from_utf8_lossy(&status.stdout).contains("6 done, 0 failed, 0 missing of 6 members"));
+    let before = results(&out, 4);
+    let stamp = std::fs::metadata(out.join("members/4/done"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    let again = kessler()
+        .arg("ensemble")
+        .arg(&cfg)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(again.status.success());
+    assert!(String::from_utf8_lossy(&again.stderr).contains("all 6 members are done"));
+    assert_eq!(
+        std::fs::metadata(out.join("members/4/done"))
+            .unwrap()
+            .modified()
+            .unwrap(),
+        stamp
+    );
+    assert_eq!(results(&out, 4), before);
+
+    // A member's own rerun gives the same bits.
+    let member = kessler()
+        .args(["ensemble", "member"])
+        .arg(&out)
+        .arg("4")
+        .output()
+        .unwrap();
+    assert!(member.status.success(), "{}", String::from_utf8_lossy(&member.stderr));
+    assert_eq!(results(&out, 4), before);
+
+    // Another config for the same folder is refused, naming what differs.
+    let other = config(tmp.path(), "other.ron", &SMALL.replace("steps: 60", "steps: 70"));
+    let refused = kessler()
+        .arg("ensemble")
+        .arg(&other)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2));
+    assert_one_clear_line(
+        &refused.stderr,
+        &["holds another ensemble", "`steps` is 60 there, 70 here"],
+    );
+    assert_eq!(results(&out, 4), before);
+}
+
+/// The pid of the running `kessler ensemble member DIR INDEX`.
+fn member_pid(dir: &Path, index: u64) -> Option<u32> {
+    let wanted = [
+        "ensemble".to_owned(),
+        "member".to_owned(),
+        dir.display().to_string(),
+        index.to_string(),
+    ];
+    for entry in std::fs::read_dir("/proc").ok()?.flatten() {
+        let Ok(pid) = entry.file_name().to_string_lossy().parse::<u32>() else {
+            continue;
+        };
+        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
+            continue;
+        };
+        let args: Vec<String> = cmdline
+            .split(|&b| b == 0)
+            .filter(|a| !a.is_empty())
+            .map(|a| String::from_utf8_lossy(a).into_owned())
+            .collect();
+        if args.len() >= 5 && args[1..5] == wanted {
+            return Some(pid);
+        }
+    }
+    None
+}
+
+/// Waits (at most a minute) until `ready` holds.
+fn wait_until(what: &str, mut ready: impl FnMut() -> bool) {
+    let start = Instant::now();
+    while !ready() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "timed out waiting for {what}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn signal(pid: u32, name: &str) {
+    let status = Command::new("kill")
+        .arg(format!("-{name}"))
+        .arg(pid.to_string())
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
+/// Members that take a second or two each.
+const SLOW: &str = "steps: 1500, every: 100, members: 3, seed: 9, threads: 1";
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_member_killed_half_way_fails_alone_and_resumes_equal_to_an_uninterrupted_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "slow.ron", SLOW);
+    let straight = tmp.path().join("straight");
+    let ok = kessler()
+        .arg("ensemble")
+        .arg(&cfg)
+        .arg("--out")
+        .arg(&straight)
+        .output()
+        .unwrap();
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+
+    let out = std::path::absolute(tmp.path().join("killed")).unwrap();
+    let executor = spawn(&[
+        "ensemble".as_ref(),
+        cfg.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+        "--jobs".as_ref(),
+        "1".as_ref(),
+    ]);
+    let mut pid = None;
+    wait_until("member 1 to run", || {
+        pid = member_pid(&out, 1);
+        pid.is_some()
+    });
+    std::thread::sleep(Duration::from_millis(300));
+    signal(pid.unwrap(), "KILL");
+    let ended = executor.wait_with_output().unwrap();
+    assert_eq!(
+        ended.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&ended.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&ended.stderr);
+    assert!(stderr.contains("member 1 failed: ended by signal 9"), "{stderr}");
+    assert!(stderr.contains("2 done, 1 failed, 0 missing of 3 members"), "{stderr}");
+    assert!(read(out.join("members/1/failed")).starts_with("ended by signal 9"));
+    assert!(out.join("logs/1.err").is_file(), "a failed member's log stays");
+    // The others went on and were summed up.
+    assert!(out.join("aggregate.csv").is_file());
+    let status = kessler().args(["ensemble", "status"]).arg(&out).output().unwrap();
+    let status = String::from_utf8_lossy(&status.stdout);
+    assert!(
+        status.contains("2 done, 1 failed") && status.contains("member 1 failed: ended by signal 9"),
+        "{status}"
+    );
+
+    let resumed = kessler()
+        .arg("ensemble")
+        .arg(&cfg)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(resumed.status.success(), "{}", String::from_utf8_lossy(&resumed.stderr));
+    assert!(String::from_utf8_lossy(&resumed.stderr).contains("1 to run"));
+    for index in 0..3 {
+        assert_eq!(results(&out, index), results(&straight, index), "member {index}");
+    }
+    assert!(!out.join("members/1/failed").exists());
+    assert_eq!(read(out.join("aggregate.csv")), read(straight.join("aggregate.csv")));
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn ctrl_c_keeps_the_finished_members_and_removes_the_running_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "slow.ron", SLOW);
+    let out = std::path::absolute(tmp.path().join("stopped")).unwrap();
+    let executor = spawn(&[
+        "ensemble".as_ref(),
+        cfg.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+        "--jobs".as_ref(),
+        "1".as_ref(),
+    ]);
+    wait_until("member 1 to run", || member_pid(&out, 1).is_some());
+    signal(executor.id(), "INT");
+    let ended = executor.wait_with_output().unwrap();
+    assert_eq!(ended.status.code(), Some(130));
+    // The line the run starts with, then the one it ends with.
+    let stderr = String::from_utf8_lossy(&ended.stderr);
+    let last = stderr.trim_end().lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with("kessler: error: interrupted: 1 members finished and kept, 1 running ended and removed"),
+        "{stderr}"
+    );
+    assert!(out.join("members/0/done").is_file());
+    assert!(
+        !out.join("members/1").exists(),
+        "the running member's folder is removed"
+    );
+    assert!(member_pid(&out, 1).is_none(), "the running member is ended");
+    let status = kessler().args(["ensemble", "status"]).arg(&out).output().unwrap();
+    assert!(String::from_utf8_lossy(&status.stdout).contains("1 done, 0 failed, 2 missing of 3 members"));
+}
+
+#[test]
+fn every_malformed_ensemble_config_is_a_clear_error_before_any_work() {
+    let files = corpus("bad_ensembles");
+    assert!(files.len() >= 8, "corpus has only {} files", files.len());
+    let tmp = tempfile::tempdir().unwrap();
+    for file in files {
+        let name = file.display().to_string();
+        let out = tmp.path().join("never");
+        let run = kessler()
+            .arg("ensemble")
+            .arg(&file)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(
+            run.status.code(),
+            Some(2),
+            "{name}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert_one_clear_line(&run.stderr, &[&name, &expectation(&file)]);
+        assert!(!out.exists(), "{name}: the folder was made");
+    }
+}
+
+#[test]
+fn output_folders_that_cannot_hold_an_ensemble_are_refused_untouched() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "small.ron", SMALL);
+    let file = tmp.path().join("a-file");
+    std::fs::write(&file, "precious").unwrap();
+    let busy = tmp.path().join("busy");
+    std::fs::create_dir(&busy).unwrap();
+    std::fs::write(busy.join("notes.txt"), "precious").unwrap();
+    let mut cases: Vec<(PathBuf, &str)> = vec![
+        (file.clone(), "is a file; give a folder"),
+        (busy.clone(), "holds files but no ensemble.ron"),
+        (tmp.path().join("no/such/folder"), "does not exist"),
+        (PathBuf::from("/proc"), "cannot write in folder /proc"),
+    ];
+    #[cfg(unix)]
+    {
+        let fifo = tmp.path().join("fifo");
+        assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        cases.push((fifo, "is a FIFO (named pipe); give a folder"));
+    }
+    for (out, expected) in cases {
+        let run = kessler()
+            .arg("ensemble")
+            .arg(&cfg)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(2), "{}", out.display());
+        assert_one_clear_line(&run.stderr, &["--out", expected]);
+    }
+    assert_eq!(read(&file), "precious");
+    assert_eq!(std::fs::read_dir(&busy).unwrap().count(), 1);
+
+    // Options that do not go with the local executor, and a member index
+    // past the ensemble.
+    for (args, expected) in [
+        (&["--wait"][..], "--wait: goes with --executor slurm"),
+        (
+            &["--slurm-arg=--partition=x"][..],
+            "--slurm-arg --partition=x: goes with --executor slurm",
+        ),
+        (&["--jobs", "0"][..], "must be a whole number from 1 to 1000000"),
+    ] {
+        let out = tmp.path().join("fresh");
+        let run = kessler()
+            .arg("ensemble")
+            .arg(&cfg)
+            .arg("--out")
+            .arg(&out)
+            .args(args)
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(2), "{args:?}");
+        assert_one_clear_line(&run.stderr, &[expected]);
+    }
+    let out = tmp.path().join("ens");
+    let ran = kessler()
+        .arg("ensemble")
+        .arg(&cfg)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(ran.status.success());
+    let past = kessler()
+        .args(["ensemble", "member"])
+        .arg(&out)
+        .arg("6")
+        .output()
+        .unwrap();
+    assert_eq!(past.status.code(), Some(2));
+    assert_one_clear_line(&past.stderr, &["INDEX 6: the ensemble in", "has 6 members, 0 to 5"]);
+    let not_one = kessler().args(["ensemble", "status"]).arg(tmp.path()).output().unwrap();
+    assert_eq!(not_one.status.code(), Some(2));
+    assert_one_clear_line(&not_one.stderr, &["is not an ensemble's folder"]);
+}
