@@ -52,6 +52,8 @@ fn made_up_folder(dir: &Path, members: u64, rows: u64) -> (EnsembleFolder, Recor
                     kinetic_energy: 3.1e5 + (index * 7919 % 1000) as f64 + r as f64,
                     momentum: DVec3::new(0.1, -0.2, 0.3),
                 },
+                reentries: r % 3,
+                absorbed_mass: r as f64,
                 state_hash: StateHash(index << 32 | r),
             })
             .collect();
@@ -86,15 +88,32 @@ fn member_overhead(c: &mut Criterion) {
         let scenario = root.join(format!("scenarios/{scene}.ron"));
         std::fs::write(
             &config,
-            format!("Ensemble(scenario: {:?}, steps: 0, members: 1)", scenario.display().to_string()),
+            format!(
+                "Ensemble(scenario: {:?}, steps: 0, members: 1)",
+                scenario.display().to_string()
+            ),
         )
         .unwrap();
         let out = dir.path().join("ens");
         let kessler = || Command::new(env!("CARGO_BIN_EXE_kessler"));
-        assert!(kessler().arg("ensemble").arg(&config).arg("--out").arg(&out).status().unwrap().success());
+        assert!(
+            kessler()
+                .arg("ensemble")
+                .arg(&config)
+                .arg("--out")
+                .arg(&out)
+                .status()
+                .unwrap()
+                .success()
+        );
         group.bench_function(scene, |b| {
             b.iter(|| {
-                let status = kessler().args(["ensemble", "member"]).arg(&out).arg("0").output().unwrap();
+                let status = kessler()
+                    .args(["ensemble", "member"])
+                    .arg(&out)
+                    .arg("0")
+                    .output()
+                    .unwrap();
                 assert!(status.status.success());
             })
         });

@@ -64,6 +64,7 @@ mod tests {
             interacts: false,
             previous: Vec3::ZERO,
             spherical: true,
+            absorbs: false,
         };
         let mut out = Vec::new();
         write_csv(&[body], StateHash::of([body], 4), &mut out).unwrap();

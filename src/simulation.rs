@@ -3,22 +3,27 @@
 
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState, BodyStateQuery, Mass, Position, Spherical, Velocity};
+use crate::components::{Absorbs, BodyId, BodyState, BodyStateQuery, Mass, Position, Spherical, Velocity};
 use crate::execution::Execution;
 use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::Scenario;
 use crate::state_hash::StateHash;
 use crate::systems::{
-    CollisionStats, SimulationFault, SimulationPlugins, StageTimings, Totals, first_non_finite, run_updates,
+    Absorbed, CollisionStats, SimulationFault, SimulationPlugins, StageTimings, Totals, first_non_finite, run_updates,
 };
 
 /// Spawns `bodies` (ids must be unique and unused) and sets the next fresh
 /// id past the highest; returns that id.
 pub fn spawn_bodies(world: &mut World, bodies: &[BodyState]) -> u64 {
     let entities: Vec<Entity> = world.spawn_batch(bodies.iter().map(BodyState::bundle)).collect();
-    for (entity, _) in entities.iter().zip(bodies).filter(|(_, b)| b.spherical) {
-        world.entity_mut(*entity).insert(Spherical);
+    for (entity, body) in entities.iter().zip(bodies) {
+        if body.spherical {
+            world.entity_mut(*entity).insert(Spherical);
+        }
+        if body.absorbs {
+            world.entity_mut(*entity).insert(Absorbs);
+        }
     }
     let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
     world.insert_resource(NextBodyId(next));
@@ -134,6 +139,11 @@ impl Simulation {
     /// What collisions did in the last update, and shatters so far.
     pub fn collision_stats(&self) -> CollisionStats {
         *self.app.world().resource::<CollisionStats>()
+    }
+
+    /// The mass and momentum absorbing bodies took since the start.
+    pub fn absorbed(&self) -> Absorbed {
+        *self.app.world().resource::<Absorbed>()
     }
 
     /// How long the stages and updates took.

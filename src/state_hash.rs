@@ -3,8 +3,8 @@
 //! over little-endian bytes: for every body in id order its id (`u64`),
 //! position, velocity, mass and half-extents (`f32` bits, x, y, z), then
 //! one byte each for its shape (0 box, 1 ball), gravity role (0 `Source`,
-//! 1 `Adopter`, 2 `SourceAndAdopter`, 3 `Inert`) and interacts flag (0 or
-//! 1); after the bodies, the next id (`u64`). A body's previous position is
+//! 1 `Adopter`, 2 `SourceAndAdopter`, 3 `Inert`) and how it collides (0
+//! not at all, 1 interacts, 2 absorbs what touches it); after the bodies, the next id (`u64`). A body's previous position is
 //! not part of the state (every drift sets it before anything reads it)
 //! and is left out, so a snapshot's hash is the hash of the run that
 //! continues from it. Written as sixteen lowercase hexadecimal digits.
@@ -88,7 +88,9 @@ fn put_body(out: &mut [u8; BODY_BYTES], body: &BodyState) {
     };
     out[48] = u8::from(body.spherical);
     out[49] = role;
-    out[50] = u8::from(body.interacts);
+    // An absorber never interacts: 2 stands for it, so that every state
+    // without one hashes as it did before absorbers existed.
+    out[50] = if body.absorbs { 2 } else { u8::from(body.interacts) };
 }
 
 impl fmt::Display for StateHash {
@@ -115,6 +117,7 @@ mod tests {
             interacts: true,
             previous: Vec3::ZERO,
             spherical: false,
+            absorbs: false,
         }
     }
 
@@ -139,6 +142,7 @@ mod tests {
             body(1),
             BodyState {
                 spherical: true,
+                absorbs: false,
                 role: GravityRole::Inert,
                 ..body(4)
             },
@@ -164,7 +168,7 @@ mod tests {
     fn every_part_of_the_state_changes_the_hash() {
         let base = vec![body(1), body(2)];
         let hash = StateHash::of(&base, 3);
-        let changed: [fn(&mut BodyState); 9] = [
+        let changed: [fn(&mut BodyState); 10] = [
             |b| b.id = BodyId(7),
             |b| b.position.z = f32::from_bits(b.position.z.to_bits() + 1),
             |b| b.velocity.z = 0.0,
@@ -174,6 +178,10 @@ mod tests {
             |b| b.interacts = false,
             |b| b.spherical = true,
             |b| b.velocity.x = -b.velocity.x,
+            |b| {
+                b.interacts = false;
+                b.absorbs = true;
+            },
         ];
         for (i, change) in changed.iter().enumerate() {
             let mut bodies = base.clone();

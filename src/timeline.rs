@@ -23,6 +23,10 @@ pub struct TimelineRow {
     pub refused_shatters: u64,
     /// Bodies, mass, kinetic energy and momentum now.
     pub totals: Totals,
+    /// Bodies absorbed (re-entries) since the previous row.
+    pub reentries: u64,
+    /// Mass absorbed since the start: with `mass`, what the physics keeps.
+    pub absorbed_mass: f64,
     /// The state's hash now (the last column, after those that came
     /// before it).
     pub state_hash: StateHash,
@@ -40,6 +44,8 @@ crate::csv_row!(TimelineRow, |r| {
     momentum_x: r.totals.momentum.x,
     momentum_y: r.totals.momentum.y,
     momentum_z: r.totals.momentum.z,
+    reentries: r.reentries,
+    absorbed_mass: r.absorbed_mass,
     state_hash: r.state_hash,
 });
 
@@ -48,8 +54,8 @@ crate::csv_row!(TimelineRow, |r| {
 pub struct Timeline {
     every: u64,
     rows: Vec<TimelineRow>,
-    /// Shatters and refusals since the start at the last row.
-    counted: (u64, u64),
+    /// Shatters, refusals and re-entries since the start at the last row.
+    counted: (u64, u64, u64),
 }
 
 impl Timeline {
@@ -58,7 +64,7 @@ impl Timeline {
         Self {
             every: every.max(1),
             rows: Vec::new(),
-            counted: (0, 0),
+            counted: (0, 0, 0),
         }
     }
 
@@ -76,16 +82,18 @@ impl Timeline {
     pub fn record(&mut self, sim: &mut Simulation, update: u64) {
         let stats = sim.collision_stats();
         let pairs = if update == 0 { 0 } else { stats.pairs as u64 };
-        let (shatters, refused) = self.counted;
+        let (shatters, refused, reentries) = self.counted;
         self.rows.push(TimelineRow {
             update,
             pairs,
             shatters: stats.shatters_total - shatters,
             refused_shatters: stats.refused_total - refused,
             totals: sim.totals(),
+            reentries: stats.reentries_total - reentries,
+            absorbed_mass: sim.absorbed().mass,
             state_hash: sim.state_hash(),
         });
-        self.counted = (stats.shatters_total, stats.refused_total);
+        self.counted = (stats.shatters_total, stats.refused_total, stats.reentries_total);
     }
 
     /// Runs `updates` updates of `sim`, a row before the first, every

@@ -248,12 +248,12 @@ fn every_snapshot_near_the_bound_on_ids_loads_back() {
         (
             format!("Scenario(next_id: {}, bodies: [{meeting}])", bound - 5),
             "3",
-            "(5 at the end, 1 shatters, 0 refused)".to_owned(),
+            "(5 at the end, 1 shatters, 0 refused, 0 reentries)".to_owned(),
         ),
         (
             format!("Scenario(next_id: {}, bodies: [{meeting}])", bound - 4),
             "3",
-            "(2 at the end, 0 shatters, 1 refused)".to_owned(),
+            "(2 at the end, 0 shatters, 1 refused, 0 reentries)".to_owned(),
         ),
     ];
     for (i, (text, steps, needle)) in cases.iter().enumerate() {

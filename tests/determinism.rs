@@ -154,3 +154,35 @@ fn one_hash_for_every_thread_count_and_split() {
         }
     }
 }
+
+/// Debris hitting an absorbing ball and shattering on the way: every
+/// thread count gives sequential's state hash and absorbed mass.
+#[test]
+fn absorbing_a_shattering_cloud_is_bit_identical() {
+    let text = "Scenario(shatter_threshold: 0.5, bodies: [
+        Body(position: (0, 0, 0), shape: Sphere(radius: 40), mass: 3000, role: Source, interacts: false, absorbs: true),
+    ], generators: [
+        Cloud(count: 3000, center: (0, 0, 0), half_size: (120, 120, 120), max_speed: 1.0),
+    ])";
+    let scenario = Scenario::parse(text, "test").unwrap();
+    let run = |execution: Execution| {
+        let mut sim = Simulation::from_scenario(&scenario, execution.fine_grained()).unwrap();
+        sim.step(30);
+        let stats = sim.collision_stats();
+        (
+            sim.state_hash(),
+            sim.absorbed().mass.to_bits(),
+            stats.reentries_total,
+            stats.shatters_total,
+        )
+    };
+    let sequential = run(Execution::new(ExecutionMode::Sequential, 1).unwrap());
+    assert!(
+        sequential.2 > 1000 && sequential.3 > 50,
+        "absorbs and shatters: {sequential:?}"
+    );
+    for threads in [2, 3] {
+        let parallel = run(Execution::new(ExecutionMode::Parallel, threads).unwrap());
+        assert_eq!(parallel, sequential, "{threads} threads");
+    }
+}

@@ -9,13 +9,19 @@
 //! cluster with `.ci/slurm up`), where that fails it. Slurm's clients
 //! find the cluster as usual (`SLURM_CONF`, or `/etc/slurm/slurm.conf`).
 
-mod common;
-
 use std::io::Write as _;
 use std::path::Path;
 use std::process::Command;
 
-use common::kessler;
+/// The binary, blind to the user's own settings and calibration.
+fn kessler() -> assert_cmd::Command {
+    let mut command = assert_cmd::Command::cargo_bin("kessler").unwrap();
+    command.env(
+        "XDG_CONFIG_HOME",
+        std::env::temp_dir().join("kessler-tests-without-config"),
+    );
+    command
+}
 
 /// Why Slurm cannot be used here, if it cannot.
 fn missing_slurm() -> Option<String> {
@@ -25,8 +31,15 @@ fn missing_slurm() -> Option<String> {
             "`sinfo` failed: {}",
             String::from_utf8_lossy(&out.stderr).lines().last().unwrap_or_default()
         )),
-        Ok(out) if !String::from_utf8_lossy(&out.stdout).lines().any(|l| l.starts_with("idle") || l.starts_with("mixed")) => {
-            Some(format!("no Slurm node takes jobs (sinfo: {})", String::from_utf8_lossy(&out.stdout).trim()))
+        Ok(out)
+            if !String::from_utf8_lossy(&out.stdout)
+                .lines()
+                .any(|l| l.starts_with("idle") || l.starts_with("mixed")) =>
+        {
+            Some(format!(
+                "no Slurm node takes jobs (sinfo: {})",
+                String::from_utf8_lossy(&out.stdout).trim()
+            ))
         }
         Ok(_) => None,
     }
@@ -55,7 +68,11 @@ fn read(path: impl AsRef<Path>) -> String {
 /// A member's timeline and its summary without the wall time.
 fn results(dir: &Path, index: u64) -> (String, String) {
     let member = dir.join("members").join(index.to_string());
-    assert!(member.join("done").is_file(), "member {index} not done in {}", dir.display());
+    assert!(
+        member.join("done").is_file(),
+        "member {index} not done in {}",
+        dir.display()
+    );
     let summary = read(member.join("summary.ron"))
         .lines()
         .filter(|l| !l.contains("wall_seconds"))
@@ -81,7 +98,13 @@ fn a_slurm_job_array_gives_the_local_executors_members_and_resumes_the_missing()
     )
     .unwrap();
     let local = tmp.path().join("local");
-    let ran = kessler().arg("ensemble").arg(&config).arg("--out").arg(&local).output().unwrap();
+    let ran = kessler()
+        .arg("ensemble")
+        .arg(&config)
+        .arg("--out")
+        .arg(&local)
+        .output()
+        .unwrap();
     assert!(ran.status.success(), "{}", String::from_utf8_lossy(&ran.stderr));
 
     let slurm = std::path::absolute(tmp.path().join("slurm")).unwrap();
@@ -99,14 +122,20 @@ fn a_slurm_job_array_gives_the_local_executors_members_and_resumes_the_missing()
         "{said}{}",
         String::from_utf8_lossy(&submitted.stderr)
     );
-    assert!(said.contains("submitted job array") && said.contains("6 members (`0-5`)"), "{said}");
+    assert!(
+        said.contains("submitted job array") && said.contains("6 members (`0-5`)"),
+        "{said}"
+    );
     let script = read(slurm.join("slurm/ensemble.sbatch"));
     for line in ["#SBATCH --array=0-5%2", "#SBATCH --cpus-per-task=1"] {
         assert!(script.lines().any(|l| l == line), "missing {line}:\n{script}");
     }
     let exe = std::fs::canonicalize(env!("CARGO_BIN_EXE_kessler")).unwrap();
     assert!(script.contains(&format!("kessler='{}'", exe.display())), "{script}");
-    assert!(std::fs::read_dir(slurm.join("slurm/logs")).unwrap().count() >= 6, "a log per task");
+    assert!(
+        std::fs::read_dir(slurm.join("slurm/logs")).unwrap().count() >= 6,
+        "a log per task"
+    );
     for index in 0..6 {
         assert_eq!(results(&slurm, index), results(&local, index), "member {index}");
     }
@@ -125,10 +154,18 @@ fn a_slurm_job_array_gives_the_local_executors_members_and_resumes_the_missing()
         .output()
         .unwrap();
     let said = String::from_utf8_lossy(&resumed.stdout);
-    assert!(resumed.status.success(), "{said}{}", String::from_utf8_lossy(&resumed.stderr));
+    assert!(
+        resumed.status.success(),
+        "{said}{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
     assert!(said.contains("2 members (`1,4`)"), "{said}");
     assert!(read(slurm.join("slurm/ensemble.sbatch")).contains("#SBATCH --array=1,4\n"));
-    assert_eq!(read(slurm.join("slurm/jobs")).lines().count(), 2, "a line per job submitted");
+    assert_eq!(
+        read(slurm.join("slurm/jobs")).lines().count(),
+        2,
+        "a line per job submitted"
+    );
     for index in 0..6 {
         assert_eq!(results(&slurm, index), results(&local, index), "member {index}");
     }
@@ -145,7 +182,10 @@ fn sbatch_refusing_the_job_is_one_clear_line() {
         &config,
         format!(
             "Ensemble(scenario: {:?}, steps: 1, members: 1)",
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/two_body.ron").display().to_string()
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("scenarios/two_body.ron")
+                .display()
+                .to_string()
         ),
     )
     .unwrap();

@@ -8,8 +8,7 @@ fn kessler() -> Command {
     Command::cargo_bin("kessler").unwrap()
 }
 
-const HEADER: &str =
-    "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,state_hash";
+const HEADER: &str = "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,reentries,absorbed_mass,state_hash";
 
 /// Runs `headless` with a timeline; returns the rows (as numbers, the state
 /// hash left out) and the summary line, whose state hash is the last row's.
@@ -73,7 +72,7 @@ fn a_row_every_k_updates_and_mass_kept_through_the_cascade() {
     let updates: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     let expected: Vec<f64> = (0..10).map(|k| f64::from(k) * 10.0).chain([95.0]).collect();
     assert_eq!(updates, expected, "a row at 0, every 10 updates, and after the last");
-    assert!(rows.iter().all(|r| r.len() == 10), "ten numbers and the hash a row");
+    assert!(rows.iter().all(|r| r.len() == 12), "twelve numbers and the hash a row");
     let shatters: f64 = rows.iter().map(|r| r[3]).sum();
     assert_eq!(shatters, summary_count(&summary, " shatters"), "{summary}");
     assert!(shatters > 500.0, "shattering happened: {shatters}");
@@ -118,4 +117,50 @@ fn momentum_is_kept_in_a_scene_without_sources() {
             );
         }
     }
+}
+
+/// Cubes at rest around a heavy ball that absorbs them (`absorbs`) or
+/// bounces them off: the scene's file.
+fn falling_cubes(dir: &std::path::Path, absorbs: bool) -> String {
+    let path = dir.join(format!("falling-{absorbs}.ron"));
+    std::fs::write(
+        &path,
+        format!(
+            "Scenario(shatter_threshold: 1000, bodies: [
+                Body(position: (0, 0, 0), shape: Sphere(radius: 50), mass: 4000, role: Source, interacts: false, absorbs: {absorbs}),
+            ], generators: [
+                Cloud(count: 400, center: (0, 0, 0), half_size: (150, 150, 150), max_speed: 0.0),
+            ])"
+        ),
+    )
+    .unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn what_falls_on_an_absorbing_ball_is_gone_and_its_mass_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let (rows, summary) = timeline(&falling_cubes(dir.path(), true), "200", Some("10"));
+    let (bodies, mass, reentries, absorbed) = (1, 5, 10, 11);
+    let start = &rows[0];
+    assert_eq!((start[bodies], start[reentries], start[absorbed]), (401.0, 0.0, 0.0));
+    // Mass is kept, what the ball took counted: at every row.
+    for row in &rows {
+        let total = row[mass] + row[absorbed];
+        assert!((total - start[mass]).abs() <= 1e-9 * start[mass], "{row:?}");
+        // Nothing shatters (threshold 1000): each body gone was absorbed.
+        let gone: f64 = rows.iter().take_while(|r| r[0] <= row[0]).map(|r| r[reentries]).sum();
+        assert_eq!(row[bodies], start[bodies] - gone, "{row:?}");
+    }
+    let last = rows.last().unwrap();
+    assert_eq!(last[bodies], 1.0, "every cube fell in: {last:?}");
+    assert_eq!(last[absorbed], 400.0, "400 unit masses");
+    assert_eq!(summary_count(&summary, " reentries"), 400.0, "{summary}");
+
+    // The same cubes on a ball that bounces them: all still there.
+    let (rows, summary) = timeline(&falling_cubes(dir.path(), false), "200", Some("10"));
+    let last = rows.last().unwrap();
+    assert_eq!((last[bodies], last[absorbed]), (401.0, 0.0), "{last:?}");
+    assert_eq!(rows.iter().map(|r| r[reentries]).sum::<f64>(), 0.0);
+    assert_eq!(summary_count(&summary, " reentries"), 0.0, "{summary}");
 }

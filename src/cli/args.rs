@@ -290,7 +290,7 @@ pub struct HeadlessArgs {
     #[arg(long, value_name = "auto|direct|tree[:THETA]")]
     pub gravity: Option<GravityMethod>,
     /// Write a row every K updates (`--every`) as CSV
-    /// (`update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z`).
+    /// (`update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,reentries,absorbed_mass,state_hash`).
     #[arg(long, value_name = "FILE")]
     pub timeline: Option<PathBuf>,
     /// Updates between two timeline rows (needs `--timeline`).

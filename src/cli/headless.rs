@@ -159,13 +159,14 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         .map(|&stage| format!("{} {:.3}", stage.name(), timings.stage(stage).mean_ns / 1e6))
         .collect();
     let summary = format!(
-        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}; state hash {hash}",
+        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused, {} reentries) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}; state hash {hash}",
         scenario.name,
         updates,
         bodies_start,
         sim.body_count(),
         sim.collision_stats().shatters_total,
         sim.collision_stats().refused_total,
+        sim.collision_stats().reentries_total,
         elapsed.as_secs_f64(),
         per_update_ms,
         stages.join(", "),

@@ -97,6 +97,14 @@ impl GravityRole {
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Spherical;
 
+/// Marker: a non-interacting body (a planet) that absorbs what falls on
+/// it: an interacting body that touches it is removed in that update's
+/// response, its mass and momentum counted as absorbed (re-entry), where a
+/// body without the marker bounces it off. Few bodies carry it, so it
+/// costs the rest nothing.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Absorbs;
+
 /// `false` marks an immovable collider (the planet): collisions never move or
 /// shatter it; the other body bounces off. Gravity still moves it if it is an
 /// adopter, and its own velocity still moves it (a moving wall).

@@ -4,7 +4,9 @@ use bevy::prelude::*;
 
 use bevy::ecs::query::QueryData;
 
-use super::{BodyId, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity};
+use super::{
+    Absorbs, BodyId, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
+};
 
 /// The query data a whole [`BodyState`] is read from.
 pub type BodyStateQuery = (
@@ -17,6 +19,7 @@ pub type BodyStateQuery = (
     &'static GravityRole,
     &'static Interacts,
     Has<Spherical>,
+    Has<Absorbs>,
 );
 
 /// One body's item of [`BodyStateQuery`].
@@ -58,6 +61,8 @@ pub struct BodyState {
     pub previous: Vec3,
     /// True for a ball (see [`Spherical`]), false for a box.
     pub spherical: bool,
+    /// True for a body that absorbs what touches it (see [`Absorbs`]).
+    pub absorbs: bool,
 }
 
 impl BodyState {
@@ -105,12 +110,13 @@ impl BodyState {
             interacts,
             previous: position,
             spherical: false,
+            absorbs: false,
         }
     }
 
     /// A body's state from its components.
     pub fn from_components(components: BodyComponents<'_>) -> Self {
-        let (id, position, previous, velocity, mass, half_extents, role, interacts, spherical) = components;
+        let (id, position, previous, velocity, mass, half_extents, role, interacts, spherical, absorbs) = components;
         Self {
             id: *id,
             position: position.0,
@@ -121,11 +127,13 @@ impl BodyState {
             interacts: interacts.0,
             previous: previous.0,
             spherical,
+            absorbs,
         }
     }
 
-    /// The bundle that spawns this body (a ball also needs [`Spherical`]:
-    /// [`crate::simulation::spawn_bodies`] adds it).
+    /// The bundle that spawns this body (a ball also needs [`Spherical`],
+    /// an absorber [`Absorbs`]: [`crate::simulation::spawn_bodies`] adds
+    /// them).
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {
             id: self.id,

@@ -3,5 +3,7 @@
 mod body;
 mod body_state;
 
-pub use body::{BodyId, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity};
+pub use body::{
+    Absorbs, BodyId, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
+};
 pub use body_state::{BodyBundle, BodyComponents, BodyState, BodyStateQuery};

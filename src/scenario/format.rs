@@ -94,6 +94,16 @@ pub struct Body {
     /// Default true; false makes an immovable collider.
     #[serde(default = "defaults::interacts")]
     pub interacts: bool,
+    /// Default false; true, on a body that does not interact (a planet),
+    /// absorbs every interacting body that touches it: the body is removed
+    /// and its mass and momentum counted as absorbed (re-entry).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub absorbs: bool,
+}
+
+/// Whether a flag is off (left out of a snapshot then).
+fn is_false(flag: &bool) -> bool {
+    !flag
 }
 
 /// What an explicit body collides as.

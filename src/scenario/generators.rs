@@ -193,6 +193,7 @@ mod tests {
             mass: 100.0,
             role: GravityRole::Source,
             interacts: false,
+            absorbs: false,
         }
     }
 

@@ -56,9 +56,18 @@ impl Scenario {
         Ok(())
     }
 
-    /// Spheres: only non-interacting bodies, sized by their radius alone.
+    /// Spheres: only non-interacting bodies, sized by their radius alone;
+    /// absorbers: only non-interacting bodies.
     fn check_shapes(&self) -> Result<(), InputError> {
         for (i, body) in self.bodies.iter().enumerate() {
+            if body.absorbs && body.interacts {
+                return Err(InputError::new(
+                    &self.origin,
+                    format!(
+                        "field `bodies[{i}].absorbs`: only a body that does not interact (`interacts: false`, a planet) absorbs what touches it"
+                    ),
+                ));
+            }
             if !matches!(body.shape, Shape::Sphere { .. }) {
                 continue;
             }
@@ -247,6 +256,7 @@ impl Scenario {
             BodyState {
                 previous: position,
                 spherical: matches!(b.shape, Shape::Sphere { .. }),
+                absorbs: b.absorbs,
                 ..BodyState::new_box(
                     BodyId(b.id.unwrap_or(i as u64)),
                     position,

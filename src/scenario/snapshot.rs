@@ -60,6 +60,7 @@ impl Snapshot<'_> {
                     mass: b.mass,
                     role: b.role,
                     interacts: b.interacts,
+                    absorbs: b.absorbs,
                 }
             })
             .collect();
@@ -139,6 +140,7 @@ mod tests {
                 interacts: false,
                 previous: Vec3::new(0.2, -1.0e-30, -9.87654e29),
                 spherical: false,
+                absorbs: false,
             },
             BodyState {
                 id: BodyId(9),
@@ -150,6 +152,7 @@ mod tests {
                 interacts: true,
                 previous: Vec3::new(1.0 / 3.0, 2.0, 3.0),
                 spherical: false,
+                absorbs: false,
             },
             BodyState {
                 id: BodyId(11),
@@ -161,6 +164,7 @@ mod tests {
                 interacts: false,
                 previous: Vec3::new(-5.0, 0.5, 2.983),
                 spherical: true,
+                absorbs: true,
             },
         ];
         let settings = SimulationSettings {
@@ -192,6 +196,7 @@ mod tests {
                 b.mass.to_bits(),
                 b.role,
                 b.interacts,
+                b.absorbs,
             )
         };
         assert_eq!(

@@ -1,5 +1,6 @@
 //! The shatter stage: pairs marked by the response are removed and
-//! replaced by fragments (docs/design.md, "Shatter").
+//! replaced by fragments (docs/design.md, "Shatter"), and the bodies an
+//! absorber took are removed.
 //!
 //! `c` fragments share the pair's mass equally, keep its total box volume
 //! (half-extent `l = ∛((h1x·h1y·h1z + h2x·h2y·h2z)/c)`) and its momentum: each
@@ -17,7 +18,7 @@ use crate::components::{BodyId, BodyState, GravityRole};
 use crate::maths;
 use crate::resources::{MemoryBudget, NextBodyId, SimulationSettings};
 use crate::rng::Rng;
-use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
+use crate::systems::{Fault, Reentering, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
 
 /// Two bodies to shatter, in pair order, for the shatter stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,6 +142,7 @@ fn shatter(
     settings: Res<SimulationSettings>,
     mut stage: Stage,
     mut pending: ResMut<PendingShatters>,
+    mut reentering: ResMut<Reentering>,
     mut next_id: ResMut<NextBodyId>,
     budget: Res<MemoryBudget>,
     bodies: Query<(), With<BodyId>>,
@@ -148,10 +150,17 @@ fn shatter(
     mut commands: Commands,
 ) {
     let clock = stage.start(SimulationSystems::Shatter);
+    for entity in reentering.0.drain(..) {
+        commands.entity(entity).despawn();
+    }
     let count = settings.shatter_fragments;
     // Only an update that shatters can outgrow the memory.
     let shatters = pending.0.len() as u64;
-    let after = || (bodies.iter().len() as u64 - 2 * shatters).saturating_add(shatters * u64::from(count));
+    let after = || {
+        (bodies.iter().len() as u64)
+            .saturating_sub(2 * shatters)
+            .saturating_add(shatters * u64::from(count))
+    };
     if shatters > 0
         && let Some(limit) = budget.limit
         && let after = after()

@@ -170,9 +170,31 @@ pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Out
     )
 }
 
+/// The box's point nearest the ball's center, and its distance from it.
+fn nearest_to_center(cube: &ContactBody, ball: &ContactBody) -> (DVec3, f64) {
+    let (p, center) = (cube.position.as_dvec3(), ball.position.as_dvec3());
+    let half = cube.half_extents.as_dvec3();
+    let nearest = p + (center - p).clamp(-half, half);
+    (nearest, nearest.distance(center))
+}
+
+/// Whether two bodies whose bounding boxes overlap touch: boxes always,
+/// a box and a ball where the box's point nearest the ball's center lies
+/// within its radius (what [`respond_to_ball`] acts on; the box's corner
+/// region does not touch).
+pub fn touches(a: &ContactBody, b: &ContactBody) -> bool {
+    let within =
+        |cube: &ContactBody, ball: &ContactBody| nearest_to_center(cube, ball).1 < f64::from(ball.half_extents.x);
+    match (a.spherical, b.spherical) {
+        (_, true) => within(a, b),
+        (true, false) => within(b, a),
+        (false, false) => true,
+    }
+}
+
 /// A box (`cube`, interacting) against a ball (`ball`, which does not
 /// move in a collision). The box touches the ball when its point nearest the
-/// ball's center is within the radius; a box whose bounding boxes overlap
+/// ball's center is within the radius (see [`touches`]); a box whose bounding boxes overlap
 /// the ball's but which stays outside the ball (its "corner region") is
 /// ignored. On contact the box is pushed out along the surface normal until
 /// it touches, and, if it was approaching, its velocity relative to the
@@ -181,8 +203,7 @@ pub fn respond_to_ball(cube: &ContactBody, ball: &ContactBody) -> Outcome {
     let (p, center) = (cube.position.as_dvec3(), ball.position.as_dvec3());
     let half = cube.half_extents.as_dvec3();
     let radius = f64::from(ball.half_extents.x);
-    let nearest = p + (center - p).clamp(-half, half);
-    let distance = nearest.distance(center);
+    let (nearest, distance) = nearest_to_center(cube, ball);
     if distance >= radius {
         return Outcome::Ignore;
     }

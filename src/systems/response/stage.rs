@@ -8,12 +8,14 @@
 //! The matched pairs are disjoint, so their responses are computed in
 //! parallel with the same result.
 
+use bevy::math::DVec3;
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
-use super::contact::{Outcome, respond};
+use super::contact::{Outcome, respond, touches};
 use crate::components::{
-    BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
+    Absorbs, BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical,
+    Velocity,
 };
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::systems::shatter::{PendingShatters, ShatterPair, fragment_half_extent};
@@ -38,7 +40,28 @@ pub struct CollisionStats {
     pub refused_shatters: usize,
     /// Refused shatters since the start.
     pub refused_total: u64,
+    /// Bodies absorbed this update (re-entries: see [`Absorbs`]).
+    pub reentries: usize,
+    /// Bodies absorbed since the start.
+    pub reentries_total: u64,
 }
+
+/// What absorbing bodies took since the start: the mass and momentum of
+/// every body they absorbed, so that the bodies' totals and these still
+/// add up to what the shatters and bounces keep (summed in f64 in the
+/// order the bodies were absorbed).
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+pub struct Absorbed {
+    /// Mass absorbed.
+    pub mass: f64,
+    /// Momentum absorbed, `Σ m·v` at the touch.
+    pub momentum: DVec3,
+}
+
+/// Bodies the response found touching an absorber this update, in pair
+/// order, for the shatter stage to remove.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct Reentering(pub Vec<Entity>);
 
 /// The floor, the budget and the ids: turns the shatters that would make
 /// fragments below `min_fragment_size`, more bodies than `max_bodies`
@@ -83,6 +106,8 @@ pub struct ResponsePlugin;
 impl Plugin for ResponsePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<CollisionStats>()
+            .init_resource::<Absorbed>()
+            .init_resource::<Reentering>()
             .add_systems(SimulationUpdate, respond_to_pairs.in_set(SimulationSystems::Response));
     }
 }
@@ -101,6 +126,7 @@ type ContactQuery<'w, 's> = Query<
         &'static GravityRole,
         &'static Interacts,
         Has<Spherical>,
+        Has<Absorbs>,
     ),
 >;
 
@@ -112,10 +138,35 @@ fn body_state(query: &ContactQuery, entity: Entity) -> Option<BodyState> {
     query.get(entity).ok().map(BodyState::from_components)
 }
 
-/// The greedy matching: pairs in sorted order, each interacting body in at
-/// most one of them; non-interacting bodies never get busy.
-fn match_pairs(pairs: &[Pair], bodies: &ContactQuery, busy: &mut HashSet<Entity>) -> Vec<Matched> {
+/// Re-entries: every interacting body that touches an absorber (a ball
+/// itself, not its bounding box's corners: [`touches`]), once, in pair
+/// order, with its state; they take part in nothing else this update
+/// (`busy` holds them).
+fn find_reentries(pairs: &[Pair], bodies: &ContactQuery, busy: &mut HashSet<Entity>) -> Vec<(Entity, BodyState)> {
     busy.clear();
+    let mut absorbed = Vec::new();
+    for pair in pairs {
+        let entities = [pair.entity_a, pair.entity_b];
+        let (Some(a), Some(b)) = (body_state(bodies, entities[0]), body_state(bodies, entities[1])) else {
+            continue;
+        };
+        if !(a.absorbs || b.absorbs) || !touches(&(&a).into(), &(&b).into()) {
+            continue;
+        }
+        for (k, absorber) in [(1, a), (0, b)] {
+            let other = if k == 0 { a } else { b };
+            if absorber.absorbs && other.interacts && busy.insert(entities[k]) {
+                absorbed.push((entities[k], other));
+            }
+        }
+    }
+    absorbed
+}
+
+/// The greedy matching: pairs in sorted order, each interacting body in at
+/// most one of them; non-interacting bodies never get busy. Bodies already
+/// in `busy` (absorbed) take part in none.
+fn match_pairs(pairs: &[Pair], bodies: &ContactQuery, busy: &mut HashSet<Entity>) -> Vec<Matched> {
     let mut matched = Vec::new();
     for pair in pairs {
         let entities = [pair.entity_a, pair.entity_b];
@@ -124,7 +175,7 @@ fn match_pairs(pairs: &[Pair], bodies: &ContactQuery, busy: &mut HashSet<Entity>
         };
         let states = [a, b];
         let taken = |k: usize| states[k].interacts && busy.contains(&entities[k]);
-        if (!a.interacts && !b.interacts) || taken(0) || taken(1) {
+        if (!a.interacts && !b.interacts) || a.absorbs || b.absorbs || taken(0) || taken(1) {
             continue;
         }
         for (entity, state) in entities.iter().zip(&states) {
@@ -179,6 +230,8 @@ fn respond_to_pairs(
     mut stage: Stage,
     pairs: Res<OverlappingPairs>,
     mut pending: ResMut<PendingShatters>,
+    mut reentering: ResMut<Reentering>,
+    mut absorbed: ResMut<Absorbed>,
     mut stats: ResMut<CollisionStats>,
     next_id: Res<NextBodyId>,
     mut busy: Local<HashSet<Entity>>,
@@ -186,13 +239,22 @@ fn respond_to_pairs(
 ) {
     let clock = stage.start(SimulationSystems::Response);
     pending.0.clear();
+    reentering.0.clear();
     if !(settings.collisions && settings.collision_response) {
         *stats = CollisionStats {
             shatters_total: stats.shatters_total,
             refused_total: stats.refused_total,
+            reentries_total: stats.reentries_total,
             ..CollisionStats::default()
         };
         return;
+    }
+    let reentries = find_reentries(&pairs.0, &bodies, &mut busy);
+    for (entity, body) in &reentries {
+        let mass = f64::from(body.mass);
+        absorbed.mass += mass;
+        absorbed.momentum += body.velocity.as_dvec3() * mass;
+        reentering.0.push(*entity);
     }
     let matched = match_pairs(&pairs.0, &bodies, &mut busy);
     // Fewer than two fragments cannot keep volume: then nothing shatters.
@@ -202,7 +264,7 @@ fn respond_to_pairs(
         f32::INFINITY
     };
     let dt = settings.time_step;
-    let body_count = bodies.iter().len();
+    let body_count = bodies.iter().len() - reentries.len();
     let mut outcomes: Vec<Outcome> = clock
         .execution(body_count)
         .map_chunks(matched.as_slice(), |chunk: &[Matched]| {
@@ -221,6 +283,8 @@ fn respond_to_pairs(
         shatters_total: stats.shatters_total + pending.0.len() as u64,
         refused_shatters: refused,
         refused_total: stats.refused_total + refused as u64,
+        reentries: reentries.len(),
+        reentries_total: stats.reentries_total + reentries.len() as u64,
     };
     clock.finish();
 }

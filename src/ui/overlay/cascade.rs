@@ -7,7 +7,7 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 
 use crate::components::{Mass, Velocity};
-use crate::systems::{CollisionStats, Totals};
+use crate::systems::{Absorbed, CollisionStats, Totals};
 use crate::ui::session::SandboxState;
 use crate::ui::session::UpdateClock;
 use crate::ui::sets::SandboxSystems;
@@ -38,6 +38,8 @@ pub struct Cascade {
     bucket: u64,
     /// Totals over all bodies after the last update seen.
     pub totals: Totals,
+    /// What absorbing bodies took by then.
+    pub absorbed: Absorbed,
     /// Update count, total shatters and scene at the last point.
     last_point: (u64, u64),
     /// Update count and scene at the last look.
@@ -118,6 +120,7 @@ fn observe_cascade(
     clock: Res<UpdateClock>,
     state: Res<SandboxState>,
     collisions: Res<CollisionStats>,
+    absorbed: Res<Absorbed>,
     bodies: Query<(&Mass, &Velocity)>,
 ) {
     let now = (clock.updates_total, state.generation);
@@ -129,6 +132,7 @@ fn observe_cascade(
     }
     cascade.seen = now;
     cascade.totals = Totals::of(bodies.iter().map(|(m, v)| (m.0, v.0)));
+    cascade.absorbed = *absorbed;
     let count = cascade.totals.bodies;
     cascade.observe(clock.updates_total, count, collisions.shatters_total);
 }
@@ -189,10 +193,14 @@ pub fn curve_plot(ui: &mut egui::Ui, cascade: &Cascade) {
 }
 
 /// The totals, as the panel shows them.
-pub fn totals_readout(ui: &mut egui::Ui, totals: &Totals) {
+pub fn totals_readout(ui: &mut egui::Ui, totals: &Totals, absorbed: &Absorbed) {
     let p = totals.momentum;
     ui.label(format!("total mass {:.6e}", totals.mass))
-        .on_hover_text("kept by bouncing and shattering");
+        .on_hover_text("kept by bouncing and shattering; with the absorbed mass, by absorbing too");
+    if absorbed.mass > 0.0 {
+        ui.label(format!("absorbed mass {:.6e}", absorbed.mass))
+            .on_hover_text("taken by planets that absorb what falls on them (re-entries)");
+    }
     ui.label(format!("kinetic energy {:.6e}", totals.kinetic_energy))
         .on_hover_text("kept by bounces; a shatter loses the pair's relative motion and gains the fragments' spread; gravity trades it with potential energy");
     ui.label(format!("momentum ({:.4e}, {:.4e}, {:.4e})", p.x, p.y, p.z))

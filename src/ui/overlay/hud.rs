@@ -67,6 +67,12 @@ fn hud(
                 "pairs {}   shatters {} (total {})",
                 collisions.pairs, collisions.shatters, collisions.shatters_total
             ));
+            if collisions.reentries_total > 0 {
+                ui.label(format!(
+                    "reentries {} (total {}): absorbed by a planet",
+                    collisions.reentries, collisions.reentries_total
+                ));
+            }
             if collisions.refused_total > 0 {
                 ui.label(format!(
                     "refused shatters {} (total {}): size floor or body budget",

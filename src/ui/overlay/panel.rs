@@ -97,7 +97,7 @@ fn panel(
                 execution(ui, &mut edited);
                 ui.separator();
                 physics(ui, &mut edited);
-                totals_readout(ui, &cascade.totals);
+                totals_readout(ui, &cascade.totals, &cascade.absorbed);
                 ui.separator();
                 scene(ui, &mut edited, &mut state, &mut path_field.0, &mut files);
                 save_scenario(ui, &mut save, &mut save_field.0);

@@ -11,7 +11,7 @@ use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{CannotResize, Scenario};
 use crate::simulation::spawn_bodies;
-use crate::systems::{CollisionStats, GravityInUse, OverlappingPairs, SimulationFault, StageTimings};
+use crate::systems::{Absorbed, CollisionStats, GravityInUse, OverlappingPairs, SimulationFault, StageTimings};
 use crate::ui::sets::SandboxSystems;
 
 /// State of the sandbox beyond its settings.
@@ -150,6 +150,7 @@ pub fn restart_scene(world: &mut World) {
     world.insert_resource(NextBodyId(next));
     world.insert_resource(physics);
     *world.resource_mut::<CollisionStats>() = CollisionStats::default();
+    *world.resource_mut::<Absorbed>() = Absorbed::default();
     *world.resource_mut::<GravityInUse>() = GravityInUse::default();
     world.resource_mut::<SimulationFault>().clear();
     world.resource_mut::<OverlappingPairs>().0.clear();
