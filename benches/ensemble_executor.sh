@@ -14,7 +14,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 cat >"$work/e.ron" <<RON
-Ensemble(scenario: "$root/scenarios/cascade.ron", steps: 1500, every: 100, members: 16, seed: 3, threads: 1)
+Ensemble(scenario: "$root/scenarios/cascade.ron", steps: 4000, every: 100, members: 16, seed: 3, threads: 1)
 RON
 now() { date +%s.%N; }
 ratios=()

@@ -321,6 +321,13 @@ mod tests {
             shows: counted,
         },
         Effect {
+            key: "fragment_sizes",
+            changed: "PowerLaw(exponent: 1.71)",
+            scene: MEETING,
+            what: "the fragments' sizes",
+            shows: moved,
+        },
+        Effect {
             key: "fragment_spread",
             changed: "1.0",
             scene: MEETING,

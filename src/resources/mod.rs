@@ -1,12 +1,14 @@
 //! ECS resources shared by the stages.
 
 mod body_ids;
+mod fragment_sizes;
 mod gravity_method;
 mod memory_budget;
 mod setting_value;
 mod settings;
 
 pub use body_ids::{MAX_ID, NextBodyId};
+pub use fragment_sizes::{FragmentSizes, MAX_EXPONENT};
 pub use gravity_method::{AUTO_TREE_FROM, BadGravityMethod, DEFAULT_THETA, GravityMethod, MAX_THETA};
 pub use memory_budget::{MemoryBudget, gigabytes};
 pub use setting_value::{SettingValue, problem};

@@ -7,7 +7,7 @@ use std::fmt::Debug;
 use serde::de::{Deserializer, Error};
 use serde::{Deserialize, Serialize};
 
-use super::GravityMethod;
+use super::{FragmentSizes, GravityMethod};
 use crate::input::{f32_where, shown_number, whole};
 
 /// A physics setting's type.
@@ -120,6 +120,59 @@ impl SettingValue for GravityMethod {
         };
         if method.sound() && ok(method) {
             Ok(method)
+        } else {
+            Err(D::Error::custom(format!(
+                "field `{field}`: must be {rule}, got {shown}"
+            )))
+        }
+    }
+}
+
+impl SettingValue for FragmentSizes {
+    fn sound(&self) -> bool {
+        match self {
+            Self::Equal => true,
+            Self::PowerLaw { exponent } => exponent.is_finite(),
+        }
+    }
+
+    fn shown(&self) -> String {
+        match self {
+            Self::Equal => "Equal".to_owned(),
+            Self::PowerLaw { exponent } => format!("PowerLaw(exponent: {exponent})"),
+        }
+    }
+
+    /// Read with `exponent` as an `f64`, as [`f32_where`] reads a number.
+    fn read_checked<'de, D: Deserializer<'de>>(
+        d: D,
+        field: &str,
+        rule: &str,
+        ok: impl Fn(Self) -> bool,
+    ) -> Result<Self, D::Error> {
+        /// [`FragmentSizes`] as a file writes it, `exponent` wide.
+        #[derive(Deserialize)]
+        #[serde(rename = "FragmentSizes")]
+        enum Wide {
+            Equal,
+            PowerLaw { exponent: f64 },
+        }
+        let wide = Wide::deserialize(d).map_err(|e| {
+            D::Error::custom(format!(
+                "field `{field}`: {e} (write `Equal` or `PowerLaw(exponent: 1.71)`)"
+            ))
+        })?;
+        let (sizes, shown) = match wide {
+            Wide::Equal => (Self::Equal, "Equal".to_owned()),
+            Wide::PowerLaw { exponent } => (
+                Self::PowerLaw {
+                    exponent: exponent as f32,
+                },
+                format!("PowerLaw(exponent: {})", shown_number(exponent)),
+            ),
+        };
+        if sizes.sound() && ok(sizes) {
+            Ok(sizes)
         } else {
             Err(D::Error::custom(format!(
                 "field `{field}`: must be {rule}, got {shown}"

@@ -12,8 +12,8 @@ use bevy::prelude::*;
 use serde::de::{Error, MapAccess};
 use serde::ser::SerializeStruct;
 
-use super::GravityMethod;
 use super::setting_value::{SettingValue, problem};
+use super::{FragmentSizes, GravityMethod};
 
 /// Most bodies one run may hold: about 200 bytes each in memory, so this
 /// bounds a run to a few GiB.
@@ -81,9 +81,12 @@ macro_rules! physics_settings {
             /// Impact speed (the size of `v1 − v2`) from which two interacting bodies shatter.
             shatter_threshold: f32 = 3.0,
                 "finite and >= 0", |v| v >= 0.0, Live;
-            /// Fragments one shatter makes.
+            /// Fragments one shatter makes (with `PowerLaw` sizes, the most it makes).
             shatter_fragments: u32 = 5,
                 "between 2 and 1000", |v| (2..=MAX_FRAGMENTS).contains(&v), Live;
+            /// How a shatter sizes its fragments: `Equal` cubes (the thesis), or `PowerLaw(exponent: α)`, edges from the NASA standard breakup model's `N(>L) ∝ L^−α` (1.71 for collisions, 1.6 for explosions).
+            fragment_sizes: FragmentSizes = FragmentSizes::Equal,
+                "Equal, or PowerLaw(exponent: α) with α finite, > 0 and at most 10", |v: FragmentSizes| v.is_valid(), Live;
             /// Fragments' speed away from their center of mass, as a share of the impact speed (the thesis's "Streuung").
             fragment_spread: f32 = 0.2,
                 "finite and between 0 and 10", |v| (0.0..=10.0).contains(&v), Live;
@@ -411,6 +414,7 @@ mod tests {
         assert_eq!(rule("max_bodies"), format!("between 1 and {MAX_BODIES}"));
         assert_eq!(rule("shatter_fragments"), format!("between 2 and {MAX_FRAGMENTS}"));
         assert_eq!(rule("seed"), format!("between 0 and {}", u64::MAX));
+        assert!(rule("fragment_sizes").ends_with(&format!("at most {}", crate::resources::MAX_EXPONENT)));
         assert!(rule("gravity").ends_with(&format!("from 0 to {}", crate::resources::MAX_THETA)));
         for (key, just_inside, just_outside) in [
             (

@@ -216,6 +216,7 @@ mod tests {
             gravity_method: GravityMethod::Tree { theta: 0.75 },
             shatter_threshold: 0.0,
             shatter_fragments: 1000,
+            fragment_sizes: crate::resources::FragmentSizes::PowerLaw { exponent: 1.6 },
             fragment_spread: 10.0,
             min_fragment_size: 0.0,
             max_bodies: crate::resources::MAX_BODIES,

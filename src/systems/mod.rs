@@ -38,7 +38,10 @@ pub use response::{
     collision_axes, elastic, refuse_shatters, respond, respond_to_ball,
 };
 pub use schedule::{SchedulePlugin, SimulationUpdate, run_updates};
-pub use shatter::{PendingShatters, ShatterPair, ShatterPlugin, fragment_half_extent, fragments};
+pub use shatter::{
+    PendingShatters, ShatterPair, ShatterPlugin, fragment_half_extent, fragments, fragments_for, power_law_fragments,
+    power_law_halves,
+};
 pub use sort::SortPlugin;
 pub use stage_clock::{Stage, StageClock};
 pub use stages::{STAGE_COUNT, STAGES, SimulationSystems, StageInfo};

@@ -16,7 +16,7 @@ use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, GravityRole};
 use crate::maths;
-use crate::resources::{MemoryBudget, NextBodyId, SimulationSettings};
+use crate::resources::{FragmentSizes, MemoryBudget, NextBodyId, SimulationSettings};
 use crate::rng::Rng;
 use crate::systems::{Fault, Reentering, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
 
@@ -76,11 +76,115 @@ pub fn fragment_half_extent(a: Vec3, b: Vec3, count: u32) -> f64 {
 /// all of it.
 pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u64, first_id: BodyId) -> Vec<BodyState> {
     let count = count.max(2);
+    let half = fragment_half_extent(a.half_extents, b.half_extents, count);
+    lay_out(a, b, spread, seed, first_id, |_| vec![half; count as usize])
+}
+
+/// Kernel: the fragments of `a` and `b` as `settings` size them
+/// ([`FragmentSizes`]), with ids from `first_id`: `Equal` as
+/// [`fragments`], `PowerLaw` as [`power_law_fragments`].
+pub fn fragments_for(a: &BodyState, b: &BodyState, settings: &SimulationSettings, first_id: BodyId) -> Vec<BodyState> {
+    let (count, spread, seed) = (settings.shatter_fragments, settings.fragment_spread, settings.seed);
+    match settings.fragment_sizes {
+        FragmentSizes::Equal => fragments(a, b, count, spread, seed, first_id),
+        FragmentSizes::PowerLaw { exponent } => power_law_fragments(
+            a,
+            b,
+            count,
+            exponent,
+            settings.min_fragment_size,
+            spread,
+            seed,
+            first_id,
+        ),
+    }
+}
+
+/// The pair's volume in half-edge units (`Σ hx·hy·hz`), and the half-edge
+/// of a cube as large as the larger parent.
+fn volumes(a: &BodyState, b: &BodyState) -> (f64, f64) {
+    let volume = |h: Vec3| f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
+    let (va, vb) = (volume(a.half_extents), volume(b.half_extents));
+    (va + vb, maths::cbrt(va.max(vb)))
+}
+
+/// Half-edges drawn from the truncated power law `N(>L) ∝ L^−exponent`
+/// between `smallest` and `largest` until `volume` (in half-edge units) is
+/// used, at most `count` of them: a draw that would pass the volume ends
+/// the draws, and the last fragment takes the rest. Each draw inverts the
+/// law's distribution: `L = (a^−α − u·(a^−α − b^−α))^(−1/α)` for `u`
+/// uniform in [0, 1).
+pub fn power_law_halves(
+    volume: f64,
+    smallest: f64,
+    largest: f64,
+    count: u32,
+    exponent: f32,
+    rng: &mut Rng,
+) -> Vec<f64> {
+    let alpha = f64::from(exponent);
+    let (low, high) = (maths::pow(smallest, -alpha), maths::pow(largest, -alpha));
+    let mut halves = Vec::new();
+    let mut used = 0.0;
+    while halves.len() + 1 < count.max(2) as usize {
+        let half = maths::pow(low - rng.unit() * (low - high), -1.0 / alpha);
+        let cube = half * half * half;
+        if used + cube >= volume {
+            break;
+        }
+        halves.push(half);
+        used += cube;
+    }
+    halves.push(maths::cbrt(volume - used));
+    halves
+}
+
+/// Kernel: the fragments of `a` and `b` with edge lengths from the power
+/// law of the NASA standard breakup model ([`power_law_halves`]):
+/// between `min_size` (a hundredth of the larger parent's edge where it is
+/// 0) and the larger parent's edge, at most `count` of them; each
+/// fragment's mass in proportion to its volume; momentum kept; placed as
+/// [`fragments`] places them, apart by the largest.
+#[expect(clippy::too_many_arguments, reason = "a kernel's inputs, each a setting")]
+pub fn power_law_fragments(
+    a: &BodyState,
+    b: &BodyState,
+    count: u32,
+    exponent: f32,
+    min_size: f32,
+    spread: f32,
+    seed: u64,
+    first_id: BodyId,
+) -> Vec<BodyState> {
+    let (volume, largest) = volumes(a, b);
+    let floor = if min_size > 0.0 {
+        f64::from(min_size) / 2.0
+    } else {
+        largest / 100.0
+    };
+    lay_out(a, b, spread, seed, first_id, |rng| {
+        power_law_halves(volume, floor.min(largest), largest, count, exponent, rng)
+    })
+}
+
+/// The fragments of `a` and `b` with the half-edges `sizes` gives (drawn
+/// from the pair's random stream after the turn, before the speeds): mass
+/// in proportion to volume (equal when the halves are), the pair's
+/// momentum kept, each at the center of mass plus a direction of a turned
+/// Fibonacci lattice scaled so that no two touch, moving apart at `spread`
+/// of the impact speed.
+fn lay_out(
+    a: &BodyState,
+    b: &BodyState,
+    spread: f32,
+    seed: u64,
+    first_id: BodyId,
+    sizes: impl FnOnce(&mut Rng) -> Vec<f64>,
+) -> Vec<BodyState> {
     let (m1, m2) = (f64::from(a.mass), f64::from(b.mass));
     let total = m1 + m2;
     let center = (a.position.as_dvec3() * m1 + b.position.as_dvec3() * m2) / total;
     let velocity = (a.velocity.as_dvec3() * m1 + b.velocity.as_dvec3() * m2) / total;
-    let half = fragment_half_extent(a.half_extents, b.half_extents, count);
     let impact = (a.velocity - b.velocity).as_dvec3().length();
 
     let (low, high) = (a.id.0.min(b.id.0), a.id.0.max(b.id.0));
@@ -90,7 +194,13 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u6
         rng.range(0.0, std::f64::consts::TAU),
         rng.range(0.0, std::f64::consts::TAU),
     );
-    let directions: Vec<DVec3> = sphere_points(count).into_iter().map(|d| turn * d).collect();
+    let halves = sizes(&mut rng);
+    let count = halves.len();
+    if count == 0 {
+        return Vec::new();
+    }
+    let equal = halves.iter().all(|&h| h == halves[0]);
+    let directions: Vec<DVec3> = sphere_points(count as u32).into_iter().map(|d| turn * d).collect();
     // Scale the directions so that every two boxes are apart on some axis.
     let mut closest = f64::INFINITY;
     for (i, p) in directions.iter().enumerate() {
@@ -100,12 +210,25 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u6
     }
     // Keep the clearance after rounding to f32: a few f32 steps at the center.
     let rounding = 4.0 * f64::from(f32::EPSILON) * center.abs().max_element();
-    let radius = (2.0 * half * (1.0 + CLEARANCE) + rounding) / closest;
+    let widest = halves.iter().copied().fold(0.0, f64::max);
+    let radius = (2.0 * widest * (1.0 + CLEARANCE) + rounding) / closest;
     let spreads: Vec<DVec3> = directions
         .iter()
         .map(|d| *d * impact * f64::from(spread) * rng.range(0.5, 1.0))
         .collect();
-    let mean_spread = spreads.iter().copied().sum::<DVec3>() / f64::from(count);
+    // Equal fragments: equal masses, the plain mean (the thesis's
+    // arithmetic, kept bit for bit); else by volume, the mass-weighted mean.
+    let masses: Vec<f64> = if equal {
+        vec![total / count as f64; count]
+    } else {
+        let volume: f64 = halves.iter().map(|h| h * h * h).sum();
+        halves.iter().map(|h| total * h * h * h / volume).collect()
+    };
+    let mean_spread = if equal {
+        spreads.iter().copied().sum::<DVec3>() / count as f64
+    } else {
+        spreads.iter().zip(&masses).map(|(s, m)| *s * *m).sum::<DVec3>() / total
+    };
 
     let role = match (
         a.role.is_source() || b.role.is_source(),
@@ -119,14 +242,15 @@ pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u6
     directions
         .iter()
         .zip(&spreads)
+        .zip(halves.iter().zip(&masses))
         .enumerate()
-        .map(|(i, (d, s))| {
+        .map(|(i, ((d, s), (half, mass)))| {
             BodyState::new_box(
                 BodyId(first_id.0 + i as u64),
                 (center + *d * radius).as_vec3(),
                 (velocity + *s - mean_spread).as_vec3(),
-                (total / f64::from(count)) as f32,
-                Vec3::splat(half as f32),
+                *mass as f32,
+                Vec3::splat(*half as f32),
                 role,
                 true,
             )
@@ -176,13 +300,9 @@ fn shatter(
             commands.entity(entity).despawn();
         }
         let [a, b] = &pair.bodies;
-        let first = BodyId(next_id.0);
-        next_id.0 += u64::from(count);
-        commands.spawn_batch(
-            fragments(a, b, count, settings.fragment_spread, settings.seed, first)
-                .into_iter()
-                .map(|f| f.bundle()),
-        );
+        let made = fragments_for(a, b, &settings, BodyId(next_id.0));
+        next_id.0 += made.len() as u64;
+        commands.spawn_batch(made.into_iter().map(|f| f.bundle()));
     }
     clock.finish();
 }
@@ -300,5 +420,94 @@ mod tests {
             mean > 0.2 * 6.0 * 0.4 && single.iter().all(|&v| v < 0.2 * 6.0 * 1.2),
             "{single:?}"
         );
+    }
+
+    /// Two parents of half-edge 10 meeting; fragments of the power law.
+    fn law_pair(ids: u64) -> (BodyState, BodyState) {
+        let a = body(ids, [0.0; 3], [3.0, 1.0, 0.0], 2.0, [10.0; 3]);
+        let b = body(ids + 1, [19.5, 0.0, 0.0], [-4.0, 0.0, 0.5], 3.0, [10.0, 10.0, 10.0]);
+        (a, b)
+    }
+
+    #[test]
+    fn power_law_fragments_keep_mass_volume_and_momentum_apart() {
+        let (a, b) = law_pair(3);
+        for (count, min_size) in [(2, 1.0), (5, 0.0), (40, 0.5), (300, 0.2)] {
+            let f = power_law_fragments(&a, &b, count, 1.71, min_size, 0.2, 9, BodyId(50));
+            assert!(
+                (1..=count as usize).contains(&f.len()),
+                "{} of at most {count}",
+                f.len()
+            );
+            let mass: f64 = f.iter().map(|x| f64::from(x.mass)).sum();
+            assert!((mass - 5.0).abs() < 1e-5, "mass {mass}");
+            let cube =
+                |x: &BodyState| f64::from(x.half_extents.x) * f64::from(x.half_extents.x) * f64::from(x.half_extents.x);
+            let volume: f64 = f.iter().map(cube).sum();
+            assert!((volume - 2000.0).abs() < 1e-3, "half-volume {volume}");
+            let momentum: DVec3 = f.iter().map(|x| x.velocity.as_dvec3() * f64::from(x.mass)).sum();
+            let expected = DVec3::new(6.0 - 12.0, 2.0, 1.5);
+            assert!((momentum - expected).length() < 1e-4, "momentum {momentum}");
+            // Mass in proportion to volume.
+            for x in &f {
+                let share = cube(x) / 2000.0;
+                assert!((f64::from(x.mass) - 5.0 * share).abs() < 1e-5 * 5.0_f64.max(1.0));
+            }
+            // Every fragment but the last (the rest) keeps to the floor and the parent's edge.
+            let floor = if min_size > 0.0 { f64::from(min_size) } else { 0.2 };
+            for x in &f[..f.len() - 1] {
+                let edge = 2.0 * f64::from(x.half_extents.x);
+                assert!(
+                    edge >= floor * (1.0 - 1e-6) && edge <= 20.0 * (1.0 + 1e-6),
+                    "edge {edge}"
+                );
+            }
+            let boxes: Vec<Aabb> = f.iter().map(|x| Aabb::new(x.position, x.half_extents)).collect();
+            for i in 0..boxes.len() {
+                for j in i + 1..boxes.len() {
+                    assert!(!boxes[i].overlaps(&boxes[j]), "{count}: fragments {i} and {j} touch");
+                }
+            }
+            assert!(f.iter().enumerate().all(|(i, x)| x.id == BodyId(50 + i as u64)));
+        }
+        assert_eq!(
+            power_law_fragments(&a, &b, 40, 1.71, 0.5, 0.2, 9, BodyId(50)),
+            power_law_fragments(&a, &b, 40, 1.71, 0.5, 0.2, 9, BodyId(50)),
+            "the same draws every time"
+        );
+    }
+
+    /// The maximum-likelihood exponent of edges `edges` above `floor`
+    /// (a Pareto law's: `n / Σ ln(L/floor)`).
+    #[expect(clippy::disallowed_methods, reason = "a test's fit, not the state")]
+    fn fitted_exponent(edges: &[f64], floor: f64) -> f64 {
+        edges.len() as f64 / edges.iter().map(|e| (e / floor).ln()).sum::<f64>()
+    }
+
+    #[test]
+    fn the_exponent_comes_back_from_a_fit_on_many_breakups() {
+        for exponent in [1.71f32, 1.6] {
+            let mut edges = Vec::new();
+            for k in 0..100 {
+                let (a, b) = law_pair(10 * k);
+                let f = power_law_fragments(&a, &b, 300, exponent, 0.2, 0.2, 4, BodyId(0));
+                // The last fragment is the rest, not a draw.
+                edges.extend(f[..f.len() - 1].iter().map(|x| 2.0 * f64::from(x.half_extents.x)));
+            }
+            assert!(edges.len() > 20_000, "{} draws", edges.len());
+            let fitted = fitted_exponent(&edges, 0.2);
+            assert!(
+                (fitted - f64::from(exponent)).abs() < 0.05,
+                "exponent {exponent}: fitted {fitted} from {} edges",
+                edges.len()
+            );
+            // The cumulative law itself: the share above ten times the floor.
+            let above = edges.iter().filter(|&&e| e > 2.0).count() as f64 / edges.len() as f64;
+            let expected = maths::pow(10.0, -f64::from(exponent));
+            assert!(
+                (above - expected).abs() < 0.15 * expected,
+                "N(>2)/N = {above}, law {expected}"
+            );
+        }
     }
 }

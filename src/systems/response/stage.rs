@@ -17,7 +17,7 @@ use crate::components::{
     Absorbs, BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical,
     Velocity,
 };
-use crate::resources::{NextBodyId, SimulationSettings};
+use crate::resources::{FragmentSizes, NextBodyId, SimulationSettings};
 use crate::systems::shatter::{PendingShatters, ShatterPair, fragment_half_extent};
 use crate::systems::sweep::{OverlappingPairs, Pair};
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
@@ -85,7 +85,13 @@ pub fn refuse_shatters(
         if *outcome != Outcome::Shatter {
             continue;
         }
-        let edge = 2.0 * fragment_half_extent(a.half_extents, b.half_extents, count);
+        // Equal cubes below the floor, or, for the power law (whose
+        // fragments keep to the floor), a pair too small for two.
+        let pieces = match settings.fragment_sizes {
+            FragmentSizes::Equal => count,
+            FragmentSizes::PowerLaw { .. } => 2,
+        };
+        let edge = 2.0 * fragment_half_extent(a.half_extents, b.half_extents, pieces);
         if edge < f64::from(settings.min_fragment_size)
             || bodies + added > settings.max_bodies
             || !next_id.has_room_for(u64::from(count))

@@ -11,7 +11,7 @@ use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy};
-use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, GravityMethod};
+use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, FragmentSizes, GravityMethod};
 use crate::rng::Rng;
 use crate::ui::session::SandboxState;
 use crate::ui::session::SnapshotSave;
@@ -218,6 +218,30 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         egui::Checkbox::new(&mut settings.collision_response, "collision response (bounce, shatter)"),
     );
     ui.add(slider(&mut settings.shatter_fragments, 2..=20).text("shatter fragments"));
+    ui.horizontal(|ui| {
+        ui.label("sizes");
+        let sizes = settings.fragment_sizes;
+        if ui
+            .radio(sizes == FragmentSizes::Equal, "equal")
+            .on_hover_text("the thesis: equal cubes that keep the pair's volume")
+            .clicked()
+        {
+            settings.fragment_sizes = FragmentSizes::Equal;
+        }
+        let law = matches!(sizes, FragmentSizes::PowerLaw { .. });
+        if ui
+            .radio(law, "power law")
+            .on_hover_text("the NASA standard breakup model: N(>L) ∝ L^−α, at most the fragments above")
+            .clicked()
+            && !law
+        {
+            settings.fragment_sizes = FragmentSizes::PowerLaw { exponent: 1.71 };
+        }
+        if let FragmentSizes::PowerLaw { exponent } = &mut settings.fragment_sizes {
+            ui.add(slider(exponent, 0.5..=3.0).text("α"))
+                .on_hover_text("1.71 for collisions, 1.6 for explosions");
+        }
+    });
     ui.add(
         slider(&mut settings.shatter_threshold, 0.0..=50.0)
             .logarithmic(true)

@@ -8,7 +8,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, available_threads};
-use crate::resources::{Applies, GravityMethod, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check};
+use crate::resources::{
+    Applies, FragmentSizes, GravityMethod, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check,
+};
 
 /// Slowest and fastest target update rate, updates per second.
 pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
@@ -45,6 +47,7 @@ macro_rules! panel_physics {
             gravity_method => |_| SimulationSettings::DEFAULT.gravity_method,
             seed => |_| SimulationSettings::DEFAULT.seed,
             shatter_fragments => |n| clamped(n, &SHATTER_FRAGMENTS_RANGE).unwrap_or(SimulationSettings::DEFAULT.shatter_fragments),
+            fragment_sizes => |_| SimulationSettings::DEFAULT.fragment_sizes,
             shatter_threshold => |_| SimulationSettings::DEFAULT.shatter_threshold,
             fragment_spread => |_| SimulationSettings::DEFAULT.fragment_spread,
             min_fragment_size => |_| SimulationSettings::DEFAULT.min_fragment_size,
@@ -148,8 +151,10 @@ pub struct SandboxSettings {
     pub body_count: Option<u64>,
     /// Seed of the generators and of fragment spread (on restart).
     pub seed: u64,
-    /// Fragments per shatter, ≥ 2 (live).
+    /// Fragments per shatter, ≥ 2 (live; with power-law sizes, the most).
     pub shatter_fragments: u32,
+    /// How a shatter sizes its fragments (live).
+    pub fragment_sizes: FragmentSizes,
     /// Impact speed from which bodies shatter (live).
     pub shatter_threshold: f32,
     /// Fragments' spread as a share of the impact speed, 0–10 (live; the
@@ -192,6 +197,7 @@ impl Default for SandboxSettings {
             body_count: None,
             seed: physics.seed,
             shatter_fragments: physics.shatter_fragments,
+            fragment_sizes: physics.fragment_sizes,
             shatter_threshold: physics.shatter_threshold,
             fragment_spread: physics.fragment_spread,
             min_fragment_size: physics.min_fragment_size,
@@ -378,6 +384,7 @@ impl SandboxSettings {
             body_count,
             seed,
             shatter_fragments,
+            fragment_sizes,
             shatter_threshold,
             fragment_spread,
             min_fragment_size,
