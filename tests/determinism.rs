@@ -191,6 +191,9 @@ fn absorbing_a_shattering_cloud_is_bit_identical() {
 /// every thread count the same bits.
 #[test]
 fn power_law_breakups_are_bit_identical_in_both_modes() {
-    let bodies = collapse_is_bit_identical("fragment_sizes: PowerLaw(exponent: 1.71), min_fragment_size: 0.05,", 300);
+    let bodies = collapse_is_bit_identical(
+        "fragment_sizes: PowerLaw(exponent: 1.71), min_fragment_size: 0.05,",
+        300,
+    );
     assert!(bodies > 300, "{bodies}");
 }

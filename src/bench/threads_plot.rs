@@ -10,22 +10,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::threads::ThreadsRow;
-use crate::output::{FONT, Figure, Labels, PlotError, figure_png, figure_svg, grouped, page};
-
-/// Colors of the body counts, in turn: ten that tell apart (the thesis's
-/// sweeps have nine counts).
-const COLORS: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
+use crate::output::{
+    FONT, Figure, Labels, PALETTE, PlotError, figure_png, figure_svg, grouped, legend_upper_left, page,
+};
 
 /// The plot as an SVG document.
 pub fn threads_svg(rows: &[ThreadsRow], labels: Labels<'_>) -> Result<String, PlotError> {
@@ -100,21 +87,14 @@ fn draw_on<DB: DrawingBackend>(
         .label("ideal: speed-up = threads")
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], gray.stroke_width(1)));
     for (i, (bodies, points)) in by_bodies.iter().enumerate() {
-        let color = COLORS[i % COLORS.len()];
+        let color = PALETTE[i % PALETTE.len()];
         chart
             .draw_series(LineSeries::new(points.iter().copied(), color.stroke_width(2)))?
             .label(format!("{} bodies", grouped(*bodies)))
             .legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()));
         chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled())))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .label_font((FONT, 13))
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK.mix(0.3))
-        .draw()?;
-    Ok(())
+    legend_upper_left(&mut chart)
 }
 
 #[cfg(test)]

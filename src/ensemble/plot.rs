@@ -8,19 +8,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::bench::plot_footer;
-use crate::output::{FONT, Figure, PlotError, figure_png, figure_svg, grouped, page};
-
-/// Colours of the combinations, in turn.
-const COLORS: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(255, 127, 14),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(23, 190, 207),
-];
+use crate::output::{FONT, Figure, PALETTE, PlotError, figure_png, figure_svg, grouped, legend_upper_left, page};
 
 /// One combination's line and band.
 #[derive(Clone, Debug, PartialEq)]
@@ -98,7 +86,7 @@ impl Figure for BodiesPlot<'_> {
             .y_label_formatter(&|v| grouped(v.round().max(0.0) as u64))
             .draw()?;
         for (i, band) in self.bands.iter().enumerate() {
-            let color = COLORS[i % COLORS.len()];
+            let color = PALETTE[i % PALETTE.len()];
             let outline: Vec<(f64, f64)> = band
                 .update
                 .iter()
@@ -113,14 +101,7 @@ impl Figure for BodiesPlot<'_> {
                 .label(format!("{} ({} members)", band.label, band.members))
                 .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 24, y + 6)], color.mix(0.3).filled()));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .label_font((FONT, 13))
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK.mix(0.3))
-            .draw()?;
-        Ok(())
+        legend_upper_left(&mut chart)
     }
 }
 

@@ -7,7 +7,7 @@
 
 use std::sync::Once;
 
-use plotters::coord::Shift;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 
 use super::write_png;
@@ -18,6 +18,21 @@ pub const PLOT_SIZE: (u32, u32) = (1060, 640);
 const FOOTER_HEIGHT: u32 = 22;
 /// The font family every text is set in (registered as Ubuntu Light).
 pub const FONT: &str = "sans-serif";
+
+/// Ten colours that tell apart, for series in turn (the ensembles'
+/// combinations, the thread sweeps' body counts).
+pub const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
 
 /// The plot could not be drawn.
 #[derive(Debug, thiserror::Error)]
@@ -95,4 +110,17 @@ pub fn grouped(n: u64) -> String {
         out.push(c);
     }
     out
+}
+
+/// Draws `chart`'s legend in its upper left corner, on a light ground.
+pub fn legend_upper_left<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font((FONT, 13))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK.mix(0.3))
+        .draw()
 }

@@ -17,6 +17,8 @@ pub use check::{
     check_outputs, check_replaceable, same_file,
 };
 pub use csv::{Cells, CsvRow, CsvTable, header, line, write_csv};
-pub use figure::{FONT, Figure, Labels, PLOT_SIZE, PlotError, figure_png, figure_svg, grouped, page};
+pub use figure::{
+    FONT, Figure, Labels, PALETTE, PLOT_SIZE, PlotError, figure_png, figure_svg, grouped, legend_upper_left, page,
+};
 pub use message::printable;
 pub use png_image::write_png;

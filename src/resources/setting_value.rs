@@ -104,27 +104,22 @@ impl SettingValue for GravityMethod {
             Direct,
             Tree { theta: f64 },
         }
-        let wide = Wide::deserialize(d).map_err(|e| {
-            D::Error::custom(format!(
-                "field `{field}`: {e} (write `Auto`, `Direct` or `Tree(theta: 0.5)`)"
-            ))
-        })?;
-        let (method, shown) = match wide {
-            Wide::Auto => (Self::Auto, "Auto".to_owned()),
-            Wide::Direct => (Self::Direct, "Direct".to_owned()),
-            Wide::Tree { theta } => (
-                // Beyond f32's range this is infinite, and refused.
-                Self::Tree { theta: theta as f32 },
-                format!("Tree(theta: {})", shown_number(theta)),
-            ),
-        };
-        if method.sound() && ok(method) {
-            Ok(method)
-        } else {
-            Err(D::Error::custom(format!(
-                "field `{field}`: must be {rule}, got {shown}"
-            )))
-        }
+        read_wide(
+            d,
+            field,
+            rule,
+            "write `Auto`, `Direct` or `Tree(theta: 0.5)`",
+            ok,
+            |wide| match wide {
+                Wide::Auto => (Self::Auto, "Auto".to_owned()),
+                Wide::Direct => (Self::Direct, "Direct".to_owned()),
+                Wide::Tree { theta } => (
+                    // Beyond f32's range this is infinite, and refused.
+                    Self::Tree { theta: theta as f32 },
+                    format!("Tree(theta: {})", shown_number(theta)),
+                ),
+            },
+        )
     }
 }
 
@@ -157,27 +152,49 @@ impl SettingValue for FragmentSizes {
             Equal,
             PowerLaw { exponent: f64 },
         }
-        let wide = Wide::deserialize(d).map_err(|e| {
-            D::Error::custom(format!(
-                "field `{field}`: {e} (write `Equal` or `PowerLaw(exponent: 1.71)`)"
-            ))
-        })?;
-        let (sizes, shown) = match wide {
-            Wide::Equal => (Self::Equal, "Equal".to_owned()),
-            Wide::PowerLaw { exponent } => (
-                Self::PowerLaw {
-                    exponent: exponent as f32,
-                },
-                format!("PowerLaw(exponent: {})", shown_number(exponent)),
-            ),
-        };
-        if sizes.sound() && ok(sizes) {
-            Ok(sizes)
-        } else {
-            Err(D::Error::custom(format!(
-                "field `{field}`: must be {rule}, got {shown}"
-            )))
-        }
+        read_wide(
+            d,
+            field,
+            rule,
+            "write `Equal` or `PowerLaw(exponent: 1.71)`",
+            ok,
+            |wide| match wide {
+                Wide::Equal => (Self::Equal, "Equal".to_owned()),
+                Wide::PowerLaw { exponent } => (
+                    Self::PowerLaw {
+                        exponent: exponent as f32,
+                    },
+                    format!("PowerLaw(exponent: {})", shown_number(exponent)),
+                ),
+            },
+        )
+    }
+}
+
+/// Reads a setting whose file form `W` holds its numbers wide (`f64`),
+/// narrows it with `narrow` (to the value and how the file wrote it), and
+/// holds it to `ok`; `hint` says what to write where the form is wrong.
+fn read_wide<'de, D, W, T>(
+    d: D,
+    field: &str,
+    rule: &str,
+    hint: &str,
+    ok: impl Fn(T) -> bool,
+    narrow: impl FnOnce(W) -> (T, String),
+) -> Result<T, D::Error>
+where
+    D: Deserializer<'de>,
+    W: Deserialize<'de>,
+    T: SettingValue,
+{
+    let wide = W::deserialize(d).map_err(|e| D::Error::custom(format!("field `{field}`: {e} ({hint})")))?;
+    let (value, shown) = narrow(wide);
+    if value.sound() && ok(value) {
+        Ok(value)
+    } else {
+        Err(D::Error::custom(format!(
+            "field `{field}`: must be {rule}, got {shown}"
+        )))
     }
 }
 
