@@ -34,13 +34,13 @@ pub use gravity::{
 pub use integrate::{IntegrateColumns, IntegratePlugin, integrate_kernel};
 pub use plugins::SimulationPlugins;
 pub use response::{
-    Absorbed, CollisionStats, ContactBody, Matched, Motion, Outcome, Reentering, ResponsePlugin, apart_axes,
-    collision_axes, elastic, refuse_shatters, respond, respond_to_ball,
+    Absorbed, CollisionStats, ContactBody, Matched, Motion, Outcome, ResponsePlugin, apart_axes, collision_axes,
+    elastic, refuse_shatters, respond, respond_to_ball,
 };
 pub use schedule::{SchedulePlugin, SimulationUpdate, run_updates};
 pub use shatter::{
-    PendingShatters, ShatterPair, ShatterPlugin, fragment_half_extent, fragments, fragments_for, power_law_fragments,
-    power_law_halves,
+    PendingShatters, Reentering, ShatterPair, ShatterPlugin, fragment_half_extent, fragments, fragments_for,
+    power_law_fragments, power_law_halves,
 };
 pub use sort::SortPlugin;
 pub use stage_clock::{Stage, StageClock};

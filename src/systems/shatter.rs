@@ -18,7 +18,7 @@ use crate::components::{BodyId, BodyState, GravityRole};
 use crate::maths;
 use crate::resources::{FragmentSizes, MemoryBudget, NextBodyId, SimulationSettings};
 use crate::rng::Rng;
-use crate::systems::{Fault, Reentering, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
+use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
 
 /// Two bodies to shatter, in pair order, for the shatter stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,6 +33,11 @@ pub struct ShatterPair {
 #[derive(Resource, Clone, Debug, Default)]
 pub struct PendingShatters(pub Vec<ShatterPair>);
 
+/// Bodies the response found touching an absorber this update, in pair
+/// order, for this stage to remove.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct Reentering(pub Vec<Entity>);
+
 /// Clearance between neighboring fragments, as a share of their edge.
 const CLEARANCE: f64 = 0.05;
 
@@ -42,6 +47,7 @@ pub struct ShatterPlugin;
 impl Plugin for ShatterPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<PendingShatters>()
+            .init_resource::<Reentering>()
             .init_resource::<MemoryBudget>()
             .add_systems(SimulationUpdate, shatter.in_set(SimulationSystems::Shatter));
     }

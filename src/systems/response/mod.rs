@@ -6,4 +6,4 @@ mod contact;
 mod stage;
 
 pub use contact::{ContactBody, Motion, Outcome, apart_axes, collision_axes, elastic, respond, respond_to_ball};
-pub use stage::{Absorbed, CollisionStats, Matched, Reentering, ResponsePlugin, refuse_shatters};
+pub use stage::{Absorbed, CollisionStats, Matched, ResponsePlugin, refuse_shatters};

@@ -18,7 +18,7 @@ use crate::components::{
     Velocity,
 };
 use crate::resources::{FragmentSizes, NextBodyId, SimulationSettings};
-use crate::systems::shatter::{PendingShatters, ShatterPair, fragment_half_extent};
+use crate::systems::shatter::{PendingShatters, Reentering, ShatterPair, fragment_half_extent};
 use crate::systems::sweep::{OverlappingPairs, Pair};
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
 
@@ -57,11 +57,6 @@ pub struct Absorbed {
     /// Momentum absorbed, `Σ m·v` at the touch.
     pub momentum: DVec3,
 }
-
-/// Bodies the response found touching an absorber this update, in pair
-/// order, for the shatter stage to remove.
-#[derive(Resource, Clone, Debug, Default)]
-pub struct Reentering(pub Vec<Entity>);
 
 /// The floor, the budget and the ids: turns the shatters that would make
 /// fragments below `min_fragment_size`, more bodies than `max_bodies`
@@ -113,7 +108,6 @@ impl Plugin for ResponsePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<CollisionStats>()
             .init_resource::<Absorbed>()
-            .init_resource::<Reentering>()
             .add_systems(SimulationUpdate, respond_to_pairs.in_set(SimulationSystems::Response));
     }
 }
