@@ -72,6 +72,8 @@ impl Figure for BodiesPlot<'_> {
         let mut chart = ChartBuilder::on(&root)
             .caption(self.title, (FONT, 18))
             .margin(12)
+            // Room for the last tick's label, centred on the right edge.
+            .margin_right(36)
             .x_label_area_size(45)
             .y_label_area_size(75)
             .build_cartesian_2d(0.0..last_update, (lowest - margin).max(0.0)..highest + margin)?;
