@@ -67,11 +67,12 @@ fn made_up_folder(dir: &Path, members: u64, rows: u64) -> (EnsembleFolder, Recor
 fn aggregation(c: &mut Criterion) {
     let dir = tempfile::tempdir().unwrap();
     let (folder, record) = made_up_folder(&dir.path().join("ens"), 1000, 200);
+    let done = folder.census(record.config.total_members()).done;
     let mut group = c.benchmark_group("ensemble_aggregate");
     group.sample_size(10);
     group.bench_function("1000x200", |b| {
         b.iter(|| {
-            let summed = aggregate(&folder, &record).unwrap();
+            let summed = aggregate(&folder, &record, &done).unwrap();
             assert_eq!((summed.members, summed.rows), (1000, 400));
         })
     });

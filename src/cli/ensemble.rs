@@ -16,7 +16,7 @@ pub fn ensemble(args: &EnsembleArgs) -> Result<(), Failure> {
         Some(EnsembleAction::Status { dir }) => status(dir),
         Some(EnsembleAction::Aggregate { dir }) => {
             let (folder, record) = EnsembleFolder::open(dir)?;
-            sum_up(&folder, &record)
+            sum_up(&folder, &record, &folder.census(record.config.total_members()))
         }
         Some(EnsembleAction::Member { dir, index }) => member(dir, *index),
         None => {
@@ -58,7 +58,7 @@ fn run(args: &EnsembleArgs, config: &Path, out: &Path) -> Result<(), Failure> {
     let root = folder.root().display().to_string();
     if to_run.is_empty() {
         eprintln!("kessler: {root}: all {total} members are done");
-        return sum_up(&folder, &record);
+        return sum_up(&folder, &record, &census);
     }
     let combinations = record.config.vary.combinations();
     eprintln!(
@@ -113,7 +113,7 @@ fn run(args: &EnsembleArgs, config: &Path, out: &Path) -> Result<(), Failure> {
 fn finish(folder: &EnsembleFolder, record: &Record) -> Result<(), Failure> {
     let census = folder.census(record.config.total_members());
     if !census.done.is_empty() {
-        sum_up(folder, record)?;
+        sum_up(folder, record, &census)?;
     }
     if census.failed.is_empty() && census.missing.is_empty() {
         return Ok(());
@@ -135,9 +135,9 @@ fn unfinished(folder: &EnsembleFolder, census: &Census) -> String {
     )
 }
 
-/// `kessler ensemble aggregate DIR`, and the end of a run.
-fn sum_up(folder: &EnsembleFolder, record: &Record) -> Result<(), Failure> {
-    let census = folder.census(record.config.total_members());
+/// `kessler ensemble aggregate DIR`, and the end of a run: sums up the
+/// members `census` counts done.
+fn sum_up(folder: &EnsembleFolder, record: &Record, census: &Census) -> Result<(), Failure> {
     if census.done.is_empty() {
         return Err(Failure::other(format!(
             "{}: no member is done yet, so there is nothing to aggregate ({})",
@@ -145,7 +145,7 @@ fn sum_up(folder: &EnsembleFolder, record: &Record) -> Result<(), Failure> {
             census.line()
         )));
     }
-    let summed = aggregate(folder, record)?;
+    let summed = aggregate(folder, record, &census.done)?;
     println!(
         "{}",
         printable(&format!(

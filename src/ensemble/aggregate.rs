@@ -172,37 +172,36 @@ pub struct Aggregated {
     pub rows: usize,
 }
 
-/// Sums up the finished members of the ensemble in `folder` and writes
-/// `aggregate.csv` and the plot, all or none of them.
-pub fn aggregate(folder: &EnsembleFolder, record: &Record) -> Result<Aggregated, EnsembleError> {
+/// Sums up the members `done` (in ascending order, as a [`Census`](super::Census)
+/// lists them) of the ensemble in `folder` and writes `aggregate.csv`
+/// and the plot, all or none of them.
+pub fn aggregate(folder: &EnsembleFolder, record: &Record, done: &[u64]) -> Result<Aggregated, EnsembleError> {
     let config = &record.config;
-    let census = folder.census(config.total_members());
-    let series: Vec<(u64, Series)> = census
-        .done
+    let series: Vec<Series> = done
         .par_iter()
-        .map(|&index| read_series(folder, index).map(|s| (index, s)))
+        .map(|&index| read_series(folder, index))
         .collect::<Result<_, _>>()?;
     let mut rows = Vec::new();
     let mut bands = Vec::new();
-    for combination in 0..config.vary.combinations() {
-        let members: Vec<Series> = series
-            .iter()
-            .filter(|(index, _)| config.place(*index).0 == combination)
-            .map(|(_, s)| s.clone())
-            .collect();
-        let Some(first) = members.first() else { continue };
-        if let Some((index, _)) = series
-            .iter()
-            .filter(|(index, _)| config.place(*index).0 == combination)
-            .find(|(_, s)| s.update != first.update)
-        {
+    // A combination's members are neighbours in index order.
+    let mut start = 0;
+    while start < done.len() {
+        let combination = config.place(done[start]).0;
+        let end = start
+            + done[start..]
+                .iter()
+                .take_while(|&&i| config.place(i).0 == combination)
+                .count();
+        let members = &series[start..end];
+        if let Some(k) = members.iter().position(|s| s.update != members[0].update) {
             return Err(EnsembleError::Input(InputError::new(
-                folder.timeline(*index).display().to_string(),
+                folder.timeline(done[start + k]).display().to_string(),
                 "its rows are not those of the other members of its combination; run the member again (remove its folder and resume)",
             )));
         }
+        start = end;
         let label = config.vary.label(combination);
-        let these = combination_rows(combination, &label, &members);
+        let these = combination_rows(combination, &label, members);
         bands.push(Band {
             label: if label.is_empty() {
                 "the scenario's settings".to_owned()
@@ -236,7 +235,7 @@ pub fn aggregate(folder: &EnsembleFolder, record: &Record) -> Result<Aggregated,
     ];
     commit_all(staged)?;
     Ok(Aggregated {
-        members: series.len() as u64,
+        members: done.len() as u64,
         combinations: bands.len() as u64,
         rows: rows.len(),
     })

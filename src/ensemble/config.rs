@@ -12,7 +12,7 @@ use serde::ser::{SerializeSeq, SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use crate::execution::{ExecutionMode, MAX_THREADS};
-use crate::input::{FieldName, InputError, MAX_UPDATES, load_ron, read, whole_between};
+use crate::input::{FieldName, InputError, MAX_UPDATES, parse_ron, read, read_text, whole_between};
 use crate::resources::{self as physics, SETTINGS, SimulationSettings};
 
 /// Most members one ensemble may have, over all its combinations.
@@ -235,16 +235,12 @@ impl Serialize for Vary {
 impl EnsembleConfig {
     /// Reads and checks a config file.
     pub fn load(path: &Path) -> Result<Self, InputError> {
-        let config: Self = load_ron(path, Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES)?;
-        config
-            .check()
-            .map_err(|e| InputError::new(path.display().to_string(), e))?;
-        Ok(config)
+        Self::parse(&read_text(path)?, &path.display().to_string())
     }
 
     /// Parses a config from RON text; `origin` names it in errors.
     pub fn parse(text: &str, origin: &str) -> Result<Self, InputError> {
-        let config: Self = crate::input::parse_ron(
+        let config: Self = parse_ron(
             text,
             origin,
             Extensions::IMPLICIT_SOME | Extensions::UNWRAP_VARIANT_NEWTYPES,

@@ -21,7 +21,7 @@ use serde::{Deserialize, Serialize};
 
 use super::config::EnsembleConfig;
 use crate::input::{InputError, node_kind, parse_ron, read_text};
-use crate::output::{OutputError, OutputProblem, WriteError, create_temporary, write_atomically};
+use crate::output::{OutputError, OutputProblem, WriteError, probe, write_atomically};
 
 /// What `DIR/ensemble.ron` holds.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -253,11 +253,7 @@ impl EnsembleFolder {
         }
         let folder = Self::at(out);
         // The very temporary file a write of the record would make.
-        let probe = create_temporary(&folder.record_path()).and_then(|(tmp, file)| {
-            drop(file);
-            std::fs::remove_file(tmp)
-        });
-        if let Err(e) = probe {
+        if let Err(e) = probe(&folder.record_path()) {
             return Err(fail(OutputProblem::FolderUnwritable(out.to_owned(), e)));
         }
         if folder.record_path().exists() {

@@ -122,7 +122,7 @@ fn simulate_member(folder: &EnsembleFolder, record: &Record, index: u64) -> Resu
     let stats = sim.collision_stats();
     let (combination, member) = config.place(index);
     write_atomically(&folder.timeline(index), |w| timeline.write_csv(w))?;
-    let mut summary = MemberSummary {
+    let summary = MemberSummary {
         index,
         combination,
         member,
@@ -134,9 +134,8 @@ fn simulate_member(folder: &EnsembleFolder, record: &Record, index: u64) -> Resu
         shatters: stats.shatters_total,
         refused_shatters: stats.refused_total,
         state_hash: sim.state_hash().to_string(),
-        wall_seconds: 0.0,
+        wall_seconds: start.elapsed().as_secs_f64(),
     };
-    summary.wall_seconds = start.elapsed().as_secs_f64();
     let text = ron::ser::to_string_pretty(&summary, ron::ser::PrettyConfig::new().struct_names(true))
         .map_err(|e| EnsembleError::Failed(format!("member {index}: its summary: {e}")))?;
     write_atomically(&folder.summary(index), |w| writeln!(w, "{text}"))?;

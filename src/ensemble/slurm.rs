@@ -74,49 +74,33 @@ pub fn sbatch_script(
         Some(k) => format!("{}%{k}", array_spec(indices)),
         None => array_spec(indices),
     };
-    let mut s = String::new();
-    let _ = writeln!(s, "#!/bin/bash");
-    let _ = writeln!(
-        s,
-        "# Written by `kessler ensemble --executor slurm`: one array task a member."
-    );
-    let _ = writeln!(
-        s,
-        "# Submit it again by hand with `sbatch {root}/slurm/ensemble.sbatch`;"
-    );
-    let _ = writeln!(s, "# `kessler ensemble status {root}` counts the members done.");
-    let _ = writeln!(s, "#SBATCH --job-name=kessler-ensemble");
-    let _ = writeln!(s, "#SBATCH --array={array}");
-    let _ = writeln!(s, "#SBATCH --ntasks=1");
-    let _ = writeln!(s, "#SBATCH --cpus-per-task={threads}");
-    let _ = writeln!(s, "#SBATCH --output={logs}/%A_%a.out");
-    let _ = writeln!(s, "#SBATCH --error={logs}/%A_%a.err");
-    let _ = writeln!(s, "set -u");
-    let _ = writeln!(s, "kessler={}", quoted(&exe));
-    let _ = writeln!(s, "dir={}", quoted(&root));
-    let _ = writeln!(s, "index=\"$SLURM_ARRAY_TASK_ID\"");
-    let _ = writeln!(s, "\"$kessler\" ensemble member \"$dir\" \"$index\"");
-    let _ = writeln!(s, "status=$?");
-    let _ = writeln!(
-        s,
-        "# A member that ended without saying why (a signal, a crash) is recorded as failed."
-    );
-    let _ = writeln!(
-        s,
-        "if [ \"$status\" -ne 0 ] && [ ! -e \"$dir/members/$index/failed\" ]; then"
-    );
-    let _ = writeln!(s, "    mkdir -p \"$dir/members/$index\"");
-    let _ = writeln!(
-        s,
-        "    last=\"$(grep -v '^[[:space:]]*$' \"$dir/slurm/logs/${{SLURM_ARRAY_JOB_ID}}_${{index}}.err\" 2>/dev/null | tail -n 1)\""
-    );
-    let _ = writeln!(
-        s,
-        "    printf 'exited with code %s on %s: %s\\n' \"$status\" \"$(hostname)\" \"$last\" > \"$dir/members/$index/failed\""
-    );
-    let _ = writeln!(s, "fi");
-    let _ = writeln!(s, "exit \"$status\"");
-    Ok(s)
+    let (kessler, dir) = (quoted(&exe), quoted(&root));
+    Ok(format!(
+        r#"#!/bin/bash
+# Written by `kessler ensemble --executor slurm`: one array task a member.
+# Submit it again by hand with `sbatch {root}/slurm/ensemble.sbatch`;
+# `kessler ensemble status {root}` counts the members done.
+#SBATCH --job-name=kessler-ensemble
+#SBATCH --array={array}
+#SBATCH --ntasks=1
+#SBATCH --cpus-per-task={threads}
+#SBATCH --output={logs}/%A_%a.out
+#SBATCH --error={logs}/%A_%a.err
+set -u
+kessler={kessler}
+dir={dir}
+index="$SLURM_ARRAY_TASK_ID"
+"$kessler" ensemble member "$dir" "$index"
+status=$?
+# A member that ended without saying why (a signal, a crash) is recorded as failed.
+if [ "$status" -ne 0 ] && [ ! -e "$dir/members/$index/failed" ]; then
+    mkdir -p "$dir/members/$index"
+    last="$(grep -v '^[[:space:]]*$' "$dir/slurm/logs/${{SLURM_ARRAY_JOB_ID}}_${{index}}.err" 2>/dev/null | tail -n 1)"
+    printf 'exited with code %s on %s: %s\n' "$status" "$(hostname)" "$last" > "$dir/members/$index/failed"
+fi
+exit "$status"
+"#
+    ))
 }
 
 /// Writes the job script and submits it with `sbatch --parsable`, passing

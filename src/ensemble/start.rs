@@ -65,9 +65,9 @@ pub fn start(config_path: &Path, out: &Path) -> Result<Started, EnsembleError> {
     let (folder, existing) = EnsembleFolder::prepare(out)?;
     let mut warning = None;
     let resumed = existing.is_some();
-    match existing {
+    match &existing {
         Some(theirs) => {
-            let differences = record.differences(&theirs);
+            let differences = record.differences(theirs);
             if !differences.is_empty() {
                 let said: Vec<String> = differences
                     .iter()
@@ -95,7 +95,7 @@ pub fn start(config_path: &Path, out: &Path) -> Result<Started, EnsembleError> {
     Ok(Started {
         // The folder's own record: its source names the config that
         // started it.
-        record: if resumed { folder.record()? } else { record },
+        record: existing.unwrap_or(record),
         folder,
         census,
         resumed,

@@ -225,7 +225,7 @@ pub fn check_replaceable(flag: &str, path: &Path) -> Result<(), OutputError> {
 /// Makes and removes the temporary file a write of `path` would make:
 /// whether it can be written (permissions, a read-only or virtual file
 /// system like `/proc`, a name too long).
-fn probe(path: &Path) -> std::io::Result<()> {
+pub fn probe(path: &Path) -> std::io::Result<()> {
     let (tmp, file) = create_temporary(path)?;
     drop(file);
     std::fs::remove_file(tmp)

@@ -14,7 +14,7 @@ pub use appended::AppendedFile;
 pub use atomic::{Staged, WriteError, commit_all, create_temporary, stage, write_atomically};
 pub use check::{
     Existing, Output, OutputError, OutputProblem, check_distinct, check_extension, check_new, check_not_inputs,
-    check_outputs, check_replaceable, same_file,
+    check_outputs, check_replaceable, probe, same_file,
 };
 pub use csv::{Cells, CsvRow, CsvTable, header, line, write_csv};
 pub use figure::{

@@ -143,7 +143,6 @@ fn body_state(query: &ContactQuery, entity: Entity) -> Option<BodyState> {
 /// order, with its state; they take part in nothing else this update
 /// (`busy` holds them).
 fn find_reentries(pairs: &[Pair], bodies: &ContactQuery, busy: &mut HashSet<Entity>) -> Vec<(Entity, BodyState)> {
-    busy.clear();
     let mut absorbed = Vec::new();
     for pair in pairs {
         let entities = [pair.entity_a, pair.entity_b];
@@ -235,6 +234,7 @@ fn respond_to_pairs(
     mut stats: ResMut<CollisionStats>,
     next_id: Res<NextBodyId>,
     mut busy: Local<HashSet<Entity>>,
+    absorbers: Query<(), With<Absorbs>>,
     mut bodies: ContactQuery,
 ) {
     let clock = stage.start(SimulationSystems::Response);
@@ -249,7 +249,13 @@ fn respond_to_pairs(
         };
         return;
     }
-    let reentries = find_reentries(&pairs.0, &bodies, &mut busy);
+    // Without an absorber (the thesis scene), no pass over the pairs for one.
+    busy.clear();
+    let reentries = if absorbers.is_empty() {
+        Vec::new()
+    } else {
+        find_reentries(&pairs.0, &bodies, &mut busy)
+    };
     for (entity, body) in &reentries {
         let mass = f64::from(body.mass);
         absorbed.mass += mass;
