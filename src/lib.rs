@@ -10,6 +10,7 @@ pub mod components;
 pub mod draw_method;
 pub mod dump;
 pub mod ensemble;
+pub mod events;
 pub mod execution;
 pub mod input;
 pub mod maths;

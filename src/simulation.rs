@@ -3,11 +3,12 @@
 
 use bevy::prelude::*;
 
-use crate::components::{Absorbs, BodyId, BodyState, BodyStateQuery, Mass, Position, Spherical, Velocity};
+use crate::components::{BodyId, BodyState, BodyStateQuery, Mass, Position, Velocity, spawn_states};
+use crate::events::{EventLog, EventQueue, EventsPlugin, install_events, record_event};
 use crate::execution::Execution;
 use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
-use crate::scenario::Scenario;
+use crate::scenario::{Event, Scenario};
 use crate::state_hash::StateHash;
 use crate::systems::{
     Absorbed, CollisionStats, SimulationFault, SimulationPlugins, StageTimings, Totals, first_non_finite, run_updates,
@@ -16,15 +17,7 @@ use crate::systems::{
 /// Spawns `bodies` (ids must be unique and unused) and sets the next fresh
 /// id past the highest; returns that id.
 pub fn spawn_bodies(world: &mut World, bodies: &[BodyState]) -> u64 {
-    let entities: Vec<Entity> = world.spawn_batch(bodies.iter().map(BodyState::bundle)).collect();
-    for (entity, body) in entities.iter().zip(bodies) {
-        if body.spherical {
-            world.entity_mut(*entity).insert(Spherical);
-        }
-        if body.absorbs {
-            world.entity_mut(*entity).insert(Absorbs);
-        }
-    }
+    spawn_states(world, bodies);
     let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
     world.insert_resource(NextBodyId(next));
     next
@@ -39,7 +32,7 @@ impl Simulation {
     /// A simulation of `bodies` (ids must be unique) with `settings`.
     pub fn new(bodies: &[BodyState], settings: SimulationSettings, execution: Execution) -> Self {
         let mut app = App::new();
-        app.add_plugins((MinimalPlugins, SimulationPlugins))
+        app.add_plugins((MinimalPlugins, SimulationPlugins, EventsPlugin))
             .insert_resource(settings)
             .insert_resource(execution);
         app.finish();
@@ -54,7 +47,29 @@ impl Simulation {
         let mut sim = Self::new(&scenario.bodies()?, scenario.settings(), execution);
         let mut next = sim.app.world_mut().resource_mut::<NextBodyId>();
         next.0 = next.0.max(scenario.next_id());
+        install_events(sim.app.world_mut(), scenario);
         Ok(sim)
+    }
+
+    /// Updates run so far.
+    pub fn updates(&self) -> u64 {
+        self.app.world().resource::<SimulationFault>().updates
+    }
+
+    /// What the events did so far.
+    pub fn event_log(&self) -> &EventLog {
+        self.app.world().resource::<EventLog>()
+    }
+
+    /// The events still to come, counted from now (a snapshot's).
+    pub fn pending_events(&self) -> Vec<Event> {
+        self.app.world().resource::<EventQueue>().pending(self.updates())
+    }
+
+    /// Records `event` at the update the run is at and applies it at once,
+    /// as the window's tools do.
+    pub fn record_event(&mut self, event: Event) {
+        record_event(self.app.world_mut(), event);
     }
 
     /// The id the next fresh body (a fragment) will get.

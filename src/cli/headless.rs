@@ -114,6 +114,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
 
     // The final state, gathered once for its hash and the outputs.
     let bodies = sim.snapshot();
+    let pending = sim.pending_events();
     let next_id = sim.next_body_id();
     let hash = StateHash::of(&bodies, next_id);
     // A state a scenario cannot hold stops the run like a fault, before any
@@ -144,6 +145,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
             settings: sim.settings(),
             bodies: &bodies,
             next_id,
+            events: &pending,
         };
         staged.push(stage(path, |w| write_snapshot(&snapshot, w)).map_err(|e| failed("--save-scenario", e))?);
     }
@@ -158,8 +160,17 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         .iter()
         .map(|&stage| format!("{} {:.3}", stage.name(), timings.stage(stage).mean_ns / 1e6))
         .collect();
+    let log = sim.event_log();
+    if let Some(first) = &log.first_skipped {
+        eprintln!("kessler: warning: {}: {}", printable(&scenario.origin), printable(first));
+    }
+    let events = if scenario.events.is_empty() {
+        String::new()
+    } else {
+        format!(", {} events applied, {} skipped", log.applied, log.skipped)
+    };
     let summary = format!(
-        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused, {} reentries) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}; state hash {hash}",
+        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused, {} reentries{events}) in {:.3} s, {:.3} ms/update ({} ms), {mode} on {threads} thread{}{split}{}; state hash {hash}",
         scenario.name,
         updates,
         bodies_start,

@@ -132,8 +132,7 @@ impl BodyState {
     }
 
     /// The bundle that spawns this body (a ball also needs [`Spherical`],
-    /// an absorber [`Absorbs`]: [`crate::simulation::spawn_bodies`] adds
-    /// them).
+    /// an absorber [`Absorbs`]: [`spawn_states`] adds them).
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {
             id: self.id,
@@ -144,6 +143,20 @@ impl BodyState {
             half_extents: HalfExtents(self.half_extents),
             role: self.role,
             interacts: Interacts(self.interacts),
+        }
+    }
+}
+
+/// Spawns `bodies` into `world`, each with its markers (a ball's
+/// [`Spherical`], an absorber's [`Absorbs`]), in the order given.
+pub fn spawn_states(world: &mut World, bodies: &[BodyState]) {
+    let entities: Vec<Entity> = world.spawn_batch(bodies.iter().map(BodyState::bundle)).collect();
+    for (entity, body) in entities.iter().zip(bodies) {
+        if body.spherical {
+            world.entity_mut(*entity).insert(Spherical);
+        }
+        if body.absorbs {
+            world.entity_mut(*entity).insert(Absorbs);
         }
     }
 }

@@ -7,6 +7,7 @@
 use serde::de::{Deserializer, Error};
 
 use crate::input::{body_count, f32_where, vec3_where, whole_between};
+use crate::resources::{FragmentSizes, SettingValue};
 pub use crate::resources::{MAX_BODIES, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_ID, MAX_LENGTH, MAX_TIME_STEP};
 
 macro_rules! checked_f32 {
@@ -119,4 +120,46 @@ pub fn around<'de, D: Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
 /// A generator's `count`: at most [`MAX_BODIES`].
 pub fn count<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
     body_count(d, "count", MAX_BODIES)
+}
+
+/// The latest update an event may name: 1e12 (about 30 years at 1 000
+/// updates a second).
+pub const MAX_EVENT_UPDATE: u64 = 1_000_000_000_000;
+
+/// An event's `update`: at most [`MAX_EVENT_UPDATE`].
+pub fn update<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    whole_between(d, "update", 0, MAX_EVENT_UPDATE)
+}
+
+/// A `Fire`'s `target`: a body id, below [`MAX_ID`].
+pub fn target<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    whole_between(d, "target", 0, MAX_ID - 1)
+}
+
+/// A `Breakup`'s or `Remove`'s `body`: a body id, below [`MAX_ID`].
+pub fn body<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    whole_between(d, "body", 0, MAX_ID - 1)
+}
+
+/// A `Breakup`'s `fragments`: between 2 and [`MAX_FRAGMENTS`].
+pub fn fragments<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    whole_between(d, "fragments", 2, MAX_FRAGMENTS)
+}
+
+checked_f32! {
+    speed: "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v);
+    distance: "finite, > 0 and at most 1e9", |v| v > 0.0 && v <= MAX_LENGTH;
+}
+
+/// A `Fire`'s `from` where given: every component finite, from -1e9 to
+/// 1e9 (that it is not (0, 0, 0) is checked with the scenario).
+pub fn from<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f32; 3]>, D::Error> {
+    vec3_where(d, "from", "finite, from -1e9 to 1e9", |v| v.abs() <= MAX_LENGTH).map(Some)
+}
+
+/// A `Breakup`'s `sizes` where given: by the rule of the setting
+/// `fragment_sizes`.
+pub fn sizes<'de, D: Deserializer<'de>>(d: D) -> Result<Option<FragmentSizes>, D::Error> {
+    let rule = crate::resources::setting("fragment_sizes").map_or("", |s| s.rule);
+    FragmentSizes::read_checked(d, "sizes", rule, FragmentSizes::is_valid).map(Some)
 }

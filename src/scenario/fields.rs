@@ -1,5 +1,5 @@
 //! A scenario file's top-level fields, read and written: its own (`name`,
-//! `next_id`, `bodies`, `generators`) and every physics setting of the
+//! `next_id`, `bodies`, `generators`, `events`) and every physics setting of the
 //! settings list, by the list's names and rules. Written by hand rather
 //! than derived because serde cannot flatten the list's struct into one
 //! that denies unknown fields, and denying them is what turns a misspelled
@@ -12,13 +12,14 @@ use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use super::checked;
+use super::events::EventList;
 use super::format::Scenario;
 use crate::input::FieldName;
 use crate::resources::{SETTINGS, unknown_setting};
 
 /// The scenario's own fields, in file order (the settings come after
 /// `name`).
-const OWN: [&str; 4] = ["name", "next_id", "bodies", "generators"];
+const OWN: [&str; 5] = ["name", "next_id", "bodies", "generators", "events"];
 
 /// A checked `name`.
 #[derive(Deserialize)]
@@ -50,6 +51,7 @@ impl<'de> Deserialize<'de> for Scenario {
                         "next_id" => scenario.next_id = map.next_value::<NextId>()?.0,
                         "bodies" => scenario.bodies = map.next_value()?,
                         "generators" => scenario.generators = map.next_value()?,
+                        "events" => scenario.events = map.next_value::<EventList>()?.0,
                         other => {
                             if !scenario.physics.read_field(other, &mut map)? {
                                 return Err(unknown_setting(other, &OWN));
@@ -76,6 +78,9 @@ impl Serialize for Scenario {
         s.serialize_field("bodies", &self.bodies)?;
         if !self.generators.is_empty() {
             s.serialize_field("generators", &self.generators)?;
+        }
+        if !self.events.is_empty() {
+            s.serialize_field("events", &self.events)?;
         }
         s.end()
     }

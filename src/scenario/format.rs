@@ -4,7 +4,8 @@
 use serde::{Deserialize, Serialize, Serializer};
 
 use super::checked;
-use crate::components::GravityRole;
+use super::events::Event;
+use crate::components::{BodyState, GravityRole};
 use crate::resources::SimulationSettings;
 
 /// A whole scenario: physics settings, explicit bodies and generators. The
@@ -29,6 +30,8 @@ pub struct Scenario {
     pub bodies: Vec<Body>,
     /// Seeded random bodies, ids after the explicit ones.
     pub generators: Vec<Generator>,
+    /// Timed events (docs/design.md, "Events"), in file order.
+    pub events: Vec<Event>,
 }
 
 impl Default for Scenario {
@@ -40,6 +43,7 @@ impl Default for Scenario {
             next_id: None,
             bodies: Vec::new(),
             generators: Vec::new(),
+            events: Vec::new(),
         }
     }
 }
@@ -129,7 +133,7 @@ impl Shape {
 
 /// Writes an optional field that is there as its value alone, as files
 /// write it (`id: 4`, not `id: Some(4)`).
-fn given<T: Serialize, S: Serializer>(value: &Option<T>, out: S) -> Result<S::Ok, S::Error> {
+pub(super) fn given<T: Serialize, S: Serializer>(value: &Option<T>, out: S) -> Result<S::Ok, S::Error> {
     match value {
         Some(value) => value.serialize(out),
         None => out.serialize_none(),
@@ -137,6 +141,53 @@ fn given<T: Serialize, S: Serializer>(value: &Option<T>, out: S) -> Result<S::Ok
 }
 
 impl Body {
+    /// The body's state with id `id` (its `previous_position` is ignored:
+    /// the first drift sets it).
+    pub fn state(&self, id: u64) -> BodyState {
+        let position = bevy::math::Vec3::from_array(self.position);
+        BodyState {
+            previous: position,
+            spherical: matches!(self.shape, Shape::Sphere { .. }),
+            absorbs: self.absorbs,
+            ..BodyState::new_box(
+                crate::components::BodyId(id),
+                position,
+                bevy::math::Vec3::from_array(self.velocity),
+                self.mass,
+                bevy::math::Vec3::from_array(self.box_half_extents()),
+                self.role,
+                self.interacts,
+            )
+        }
+    }
+
+    /// The body `state` is, with its id (as a snapshot writes it).
+    pub fn from_state(state: &BodyState) -> Self {
+        // A ball's size is its radius; a box's, its half extents.
+        let (half_extents, shape) = if state.spherical {
+            (
+                None,
+                Shape::Sphere {
+                    radius: state.half_extents.x,
+                },
+            )
+        } else {
+            (Some(state.half_extents.to_array()), Shape::Box)
+        };
+        Self {
+            id: Some(state.id.0),
+            position: state.position.to_array(),
+            previous_position: None,
+            velocity: state.velocity.to_array(),
+            half_extents,
+            shape,
+            mass: state.mass,
+            role: state.role,
+            interacts: state.interacts,
+            absorbs: state.absorbs,
+        }
+    }
+
     /// The body's shape, size and place in words, for messages: `a Sphere
     /// of radius 430 at (0, 0, 0)`, `a box of half extents (1, 1, 1) at …`.
     pub fn described(&self) -> String {
@@ -169,6 +220,16 @@ pub enum Generator {
     Cloud(Cloud),
     /// A debris shell: near-circular orbits around one source body.
     Shell(Shell),
+}
+
+impl Generator {
+    /// What each of its bodies is made of.
+    pub fn template(&self) -> &Template {
+        match self {
+            Self::Cloud(c) => &c.body,
+            Self::Shell(s) => &s.body,
+        }
+    }
 }
 
 /// See [`Generator::Cloud`].

@@ -3,14 +3,14 @@
 
 use std::path::Path;
 
-use bevy::math::{DVec3, Vec3};
+use bevy::math::DVec3;
 use ron::extensions::Extensions;
 
 use super::checked::{MAX_BODIES, MAX_ID};
 use super::format::{Body, Generator, Scenario, Shape, Shell};
 use super::generators::{self, Obstacles};
 use super::start::check_start;
-use crate::components::{BodyId, BodyState};
+use crate::components::BodyState;
 use crate::input::{InputError, parse_ron, read_text};
 use crate::resources::SimulationSettings;
 use crate::rng::Rng;
@@ -46,6 +46,7 @@ impl Scenario {
         self.check_shapes()?;
         self.check_places()?;
         self.check_ids()?;
+        self.check_events()?;
         let total = self.body_count();
         if total > MAX_BODIES {
             return Err(InputError::new(
@@ -60,28 +61,12 @@ impl Scenario {
     /// absorbers: only non-interacting bodies.
     fn check_shapes(&self) -> Result<(), InputError> {
         for (i, body) in self.bodies.iter().enumerate() {
-            if body.absorbs && body.interacts {
+            if let Some((field, problem)) = shape_problem(body) {
                 return Err(InputError::new(
                     &self.origin,
-                    format!(
-                        "field `bodies[{i}].absorbs`: only a body that does not interact (`interacts: false`, a planet) absorbs what touches it"
-                    ),
+                    format!("field `bodies[{i}].{field}`: {problem}"),
                 ));
             }
-            if !matches!(body.shape, Shape::Sphere { .. }) {
-                continue;
-            }
-            let problem = if body.interacts {
-                "a Sphere must be a non-interacting body (`interacts: false`): cubes and fragments are boxes"
-            } else if body.half_extents.is_some() {
-                "a Sphere's size is its radius: leave out `half_extents`"
-            } else {
-                continue;
-            };
-            return Err(InputError::new(
-                &self.origin,
-                format!("field `bodies[{i}].shape`: {problem}"),
-            ));
         }
         Ok(())
     }
@@ -170,7 +155,7 @@ impl Scenario {
     }
 
     /// The id of the first generated body: one past the highest explicit id.
-    fn first_generated_id(&self) -> u64 {
+    pub(super) fn first_generated_id(&self) -> u64 {
         self.bodies
             .iter()
             .enumerate()
@@ -187,7 +172,7 @@ impl Scenario {
     }
 
     /// A shell's radii and source: the field at fault and the problem.
-    fn check_shell(&self, shell: &Shell) -> Result<(), (&'static str, String)> {
+    pub(super) fn check_shell(&self, shell: &Shell) -> Result<(), (&'static str, String)> {
         if shell.inner_radius > shell.outer_radius {
             return Err((
                 "outer_radius",
@@ -250,24 +235,7 @@ impl Scenario {
     /// past the highest explicit id.
     pub fn bodies(&self) -> Result<Vec<BodyState>, InputError> {
         let mut out = Vec::with_capacity(usize::try_from(self.body_count()).unwrap_or(0));
-        out.extend(self.bodies.iter().enumerate().map(|(i, b)| {
-            // `previous_position` is ignored (the first drift sets it).
-            let position = Vec3::from_array(b.position);
-            BodyState {
-                previous: position,
-                spherical: matches!(b.shape, Shape::Sphere { .. }),
-                absorbs: b.absorbs,
-                ..BodyState::new_box(
-                    BodyId(b.id.unwrap_or(i as u64)),
-                    position,
-                    Vec3::from_array(b.velocity),
-                    b.mass,
-                    Vec3::from_array(b.box_half_extents()),
-                    b.role,
-                    b.interacts,
-                )
-            }
-        }));
+        out.extend(self.bodies.iter().enumerate().map(|(i, b)| b.state(b.id.unwrap_or(i as u64))));
         let mut first_id = self.first_generated_id();
         let obstacles = Obstacles::new(&self.bodies);
         for (i, generator) in self.generators.iter().enumerate() {
@@ -307,6 +275,31 @@ impl Scenario {
     }
 }
 
+/// What is wrong with an explicit body's shape (a sphere that interacts
+/// or has half extents) or its absorbing (a body that interacts): the field
+/// at fault and the problem.
+pub(super) fn shape_problem(body: &Body) -> Option<(&'static str, &'static str)> {
+    if body.absorbs && body.interacts {
+        return Some((
+            "absorbs",
+            "only a body that does not interact (`interacts: false`, a planet) absorbs what touches it",
+        ));
+    }
+    if !matches!(body.shape, Shape::Sphere { .. }) {
+        return None;
+    }
+    if body.interacts {
+        Some((
+            "shape",
+            "a Sphere must be a non-interacting body (`interacts: false`): cubes and fragments are boxes",
+        ))
+    } else if body.half_extents.is_some() {
+        Some(("shape", "a Sphere's size is its radius: leave out `half_extents`"))
+    } else {
+        None
+    }
+}
+
 /// The smallest orbit radius at which no box of `half` (a shell's body, in
 /// any direction) overlaps `around`: a ball's radius plus the box's half
 /// diagonal; for a box, the half diagonal of the two boxes' reach. Rounded
@@ -327,8 +320,10 @@ fn shell_clearance(around: &Body, half: [f32; 3]) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    use bevy::math::Vec3;
+
     use super::*;
-    use crate::components::GravityRole;
+    use crate::components::{BodyId, GravityRole};
 
     #[test]
     fn design_example_parses_with_defaults() {

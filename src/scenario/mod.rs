@@ -1,7 +1,9 @@
 //! Scenario files (docs/design.md, "Scenario files"): the format, its
-//! checks, the generators, loading, and the built-in scenes.
+//! checks, the generators, the events, loading, and the built-in scenes.
 
 mod builtin;
+mod event_checks;
+pub mod events;
 pub mod checked;
 mod fields;
 mod format;
@@ -13,6 +15,7 @@ mod start;
 
 pub use builtin::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, THESIS_SCENARIO, THESIS_SCENARIO_NAME};
 pub use checked::{MAX_BODIES, MAX_FRAGMENTS};
+pub use events::{Breakup, Event, Fire, Remove, Set, Spawn};
 pub use format::{Body, Cloud, Generator, Scenario, Shape, Shell, Template};
 pub use scale::CannotResize;
 pub use snapshot::{Snapshot, beyond_a_scenario, write_snapshot};

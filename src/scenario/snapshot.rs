@@ -9,7 +9,8 @@ use std::io::{self, Write};
 use ron::ser::PrettyConfig;
 
 use super::checked::MAX_STATE;
-use super::format::{Body, Scenario, Shape};
+use super::events::Event;
+use super::format::{Body, Scenario};
 use crate::components::BodyState;
 use crate::resources::SimulationSettings;
 use crate::state_hash::StateHash;
@@ -27,6 +28,9 @@ pub struct Snapshot<'a> {
     pub bodies: &'a [BodyState],
     /// The id the next fresh body gets.
     pub next_id: u64,
+    /// The events still to come, counted from now (update 0: before the
+    /// next update).
+    pub events: &'a [Event],
 }
 
 impl Snapshot<'_> {
@@ -35,40 +39,13 @@ impl Snapshot<'_> {
     /// drift sets it before anything reads it, so the state between two
     /// updates does not hold it (docs/design.md, "Snapshots").
     pub fn to_scenario(&self) -> Scenario {
-        let bodies = self
-            .bodies
-            .iter()
-            .map(|b| {
-                // A ball's size is its radius; a box's, its half extents.
-                let (half_extents, shape) = if b.spherical {
-                    (
-                        None,
-                        Shape::Sphere {
-                            radius: b.half_extents.x,
-                        },
-                    )
-                } else {
-                    (Some(b.half_extents.to_array()), Shape::Box)
-                };
-                Body {
-                    id: Some(b.id.0),
-                    position: b.position.to_array(),
-                    previous_position: None,
-                    velocity: b.velocity.to_array(),
-                    half_extents,
-                    shape,
-                    mass: b.mass,
-                    role: b.role,
-                    interacts: b.interacts,
-                    absorbs: b.absorbs,
-                }
-            })
-            .collect();
+        let bodies = self.bodies.iter().map(Body::from_state).collect();
         Scenario {
             name: self.name.to_owned(),
             physics: self.settings.clone(),
             next_id: Some(self.next_id),
             bodies,
+            events: self.events.to_vec(),
             ..Scenario::default()
         }
     }
@@ -113,7 +90,10 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
         "// State hash {} (docs/design.md, \"State hash\").",
         StateHash::of(snapshot.bodies, snapshot.next_id)
     )?;
-    let layout = PrettyConfig::new().struct_names(true).depth_limit(2);
+    let layout = PrettyConfig::new()
+        .struct_names(true)
+        .depth_limit(2)
+        .extensions(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES);
     let text = ron::ser::to_string_pretty(&snapshot.to_scenario(), layout).map_err(io::Error::other)?;
     writeln!(out, "{text}")?;
     out.flush()
@@ -179,6 +159,7 @@ mod tests {
             settings: &settings,
             bodies: &bodies,
             next_id: 15,
+            events: &[],
         };
         let mut text = Vec::new();
         write_snapshot(&snapshot, &mut text).unwrap();
@@ -239,6 +220,7 @@ mod tests {
             settings: &settings,
             bodies: &[],
             next_id: 0,
+            events: &[],
         };
         let mut text = Vec::new();
         write_snapshot(&snapshot, &mut text).unwrap();

@@ -37,9 +37,10 @@ pub use response::{
     Absorbed, CollisionStats, ContactBody, Matched, Motion, Outcome, ResponsePlugin, apart_axes, collision_axes,
     elastic, refuse_shatters, respond, respond_to_ball,
 };
-pub use schedule::{SchedulePlugin, SimulationUpdate, run_updates};
+pub use schedule::{BetweenUpdates, NextEventAt, SchedulePlugin, SimulationUpdate, run_due_events, run_updates};
 pub use shatter::{
-    PendingShatters, Reentering, ShatterPair, ShatterPlugin, fragment_half_extent, fragments, fragments_for,
+    PendingShatters, Reentering, ShatterPair, ShatterPlugin, breakup_fragments, fragment_half_extent, fragments,
+    fragments_for,
     power_law_fragments, power_law_halves,
 };
 pub use sort::SortPlugin;

@@ -15,6 +15,25 @@ use crate::resources::{NextBodyId, SimulationSettings};
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SimulationUpdate;
 
+/// What happens between two updates: the scenario's events
+/// (docs/design.md, "Events"), added by the events' plugin. It runs only
+/// when [`NextEventAt`] says an event is due, so a run without events
+/// pays one comparison an update.
+#[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct BetweenUpdates;
+
+/// The number of updates after which the next event is due
+/// ([`BetweenUpdates`] runs then, before the next update); `u64::MAX`:
+/// none.
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NextEventAt(pub u64);
+
+impl Default for NextEventAt {
+    fn default() -> Self {
+        Self(u64::MAX)
+    }
+}
+
 /// Creates the [`SimulationUpdate`] schedule with its stage order, and the
 /// resources every stage shares. Stage plugins add their systems to the sets.
 pub struct SchedulePlugin;
@@ -38,7 +57,11 @@ impl Plugin for SchedulePlugin {
         for stage in SimulationSystems::ALL {
             schedule.configure_sets(stage.run_if(no_fault));
         }
+        let mut between = Schedule::new(BetweenUpdates);
+        between.set_executor(SingleThreadedExecutor::new());
         app.add_schedule(schedule)
+            .add_schedule(between)
+            .init_resource::<NextEventAt>()
             .init_resource::<SimulationFault>()
             .init_resource::<SimulationSettings>()
             .init_resource::<StageTimings>()
@@ -46,17 +69,28 @@ impl Plugin for SchedulePlugin {
     }
 }
 
+/// Runs the events due now ([`BetweenUpdates`]), if any: those of the
+/// updates run so far. The window calls it when a tool records an event,
+/// so that the event shows before the next update.
+pub fn run_due_events(world: &mut World) {
+    if world.resource::<SimulationFault>().updates >= world.resource::<NextEventAt>().0 {
+        world.run_schedule(BetweenUpdates);
+    }
+}
+
 /// Runs `updates` simulation updates on `world`, timing each as a whole,
-/// and stops early at a [`SimulationFault`]. In parallel mode the updates
-/// run inside the worker pool ([`Execution::install`]).
+/// and stops early at a [`SimulationFault`]. The events due before an
+/// update run first ([`BetweenUpdates`]). In parallel mode the updates run
+/// inside the worker pool ([`Execution::install`]).
 pub fn run_updates(world: &mut World, updates: u64) {
     let execution = world.resource::<Execution>().clone();
     execution.install(|| {
         for _ in 0..updates {
-            let mut fault = world.resource_mut::<SimulationFault>();
-            if fault.fault.is_some() {
+            if world.resource::<SimulationFault>().fault.is_some() {
                 return;
             }
+            run_due_events(world);
+            let mut fault = world.resource_mut::<SimulationFault>();
             fault.updates += 1;
             let start = Instant::now();
             world.run_schedule(SimulationUpdate);

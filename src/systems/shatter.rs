@@ -83,7 +83,9 @@ pub fn fragment_half_extent(a: Vec3, b: Vec3, count: u32) -> f64 {
 pub fn fragments(a: &BodyState, b: &BodyState, count: u32, spread: f32, seed: u64, first_id: BodyId) -> Vec<BodyState> {
     let count = count.max(2);
     let half = fragment_half_extent(a.half_extents, b.half_extents, count);
-    lay_out(a, b, spread, seed, first_id, |_| vec![half; count as usize])
+    lay_out(Parent::pair(a, b, spread, seed), first_id, |_| {
+        vec![half; count as usize]
+    })
 }
 
 /// Kernel: the fragments of `a` and `b` as `settings` size them
@@ -168,33 +170,129 @@ pub fn power_law_fragments(
     } else {
         largest / 100.0
     };
-    lay_out(a, b, spread, seed, first_id, |rng| {
+    lay_out(Parent::pair(a, b, spread, seed), first_id, |rng| {
         power_law_halves(volume, floor.min(largest), largest, count, exponent, rng)
     })
 }
 
-/// The fragments of `a` and `b` with the half-edges `sizes` gives (drawn
-/// from the pair's random stream after the turn, before the speeds): mass
-/// in proportion to volume (equal when the halves are), the pair's
-/// momentum kept, each at the center of mass plus a direction of a turned
-/// Fibonacci lattice scaled so that no two touch, moving apart at `spread`
-/// of the impact speed.
-fn lay_out(
-    a: &BodyState,
-    b: &BodyState,
+/// What fragments are made from: two shattering bodies, or one body
+/// breaking up (docs/design.md, "Events").
+struct Parent {
+    /// The total mass.
+    total: f64,
+    /// The center of mass.
+    center: DVec3,
+    /// The velocity of the center of mass.
+    velocity: DVec3,
+    /// The speed the spread is a share of (a pair's impact speed).
+    impact: f64,
+    /// The share.
     spread: f32,
+    /// The fragments' gravity role.
+    role: GravityRole,
+    /// The stream of the fragments' random choices.
+    rng: Rng,
+}
+
+impl Parent {
+    /// Bodies `a` and `b` shattering, their fragments moving apart at
+    /// `spread` of the impact speed; the stream keyed by the pair's ids.
+    fn pair(a: &BodyState, b: &BodyState, spread: f32, seed: u64) -> Self {
+        let (m1, m2) = (f64::from(a.mass), f64::from(b.mass));
+        let total = m1 + m2;
+        let (low, high) = (a.id.0.min(b.id.0), a.id.0.max(b.id.0));
+        Self {
+            total,
+            center: (a.position.as_dvec3() * m1 + b.position.as_dvec3() * m2) / total,
+            velocity: (a.velocity.as_dvec3() * m1 + b.velocity.as_dvec3() * m2) / total,
+            impact: (a.velocity - b.velocity).as_dvec3().length(),
+            spread,
+            role: match (
+                a.role.is_source() || b.role.is_source(),
+                a.role.is_adopter() || b.role.is_adopter(),
+            ) {
+                (true, true) => GravityRole::SourceAndAdopter,
+                (true, false) => GravityRole::Source,
+                (false, true) => GravityRole::Adopter,
+                (false, false) => GravityRole::Inert,
+            },
+            rng: Rng::stream(Rng::stream(seed, low).next_u64(), high),
+        }
+    }
+
+    /// `body` breaking up, its fragments moving apart at about `speed` (a
+    /// share of `speed / 0.75` between a half and all of it, 0.75 on
+    /// average); the stream keyed by the body's id.
+    fn single(body: &BodyState, speed: f32, seed: u64) -> Self {
+        Self {
+            total: f64::from(body.mass),
+            center: body.position.as_dvec3(),
+            velocity: body.velocity.as_dvec3(),
+            impact: f64::from(speed) / 0.75,
+            spread: 1.0,
+            role: body.role,
+            rng: Rng::stream(Rng::stream(seed, BREAKUP_STREAM).next_u64(), body.id.0),
+        }
+    }
+}
+
+/// The key of the breakups' streams (beside the pairs', keyed by ids).
+const BREAKUP_STREAM: u64 = u64::MAX;
+
+/// Kernel: the fragments of `body` breaking up into at most `count` (2 to
+/// [`MAX_FRAGMENTS`](crate::resources::MAX_FRAGMENTS)) with ids from
+/// `first_id`: `Equal` cubes that keep its volume, or `PowerLaw` sizes
+/// between `min_size` (a hundredth of its edge where 0) and its edge;
+/// mass, volume and momentum kept, moving apart at about `speed`, placed
+/// as a shatter's fragments are.
+pub fn breakup_fragments(
+    body: &BodyState,
+    count: u32,
+    speed: f32,
+    sizes: FragmentSizes,
+    min_size: f32,
     seed: u64,
     first_id: BodyId,
-    sizes: impl FnOnce(&mut Rng) -> Vec<f64>,
 ) -> Vec<BodyState> {
-    let (m1, m2) = (f64::from(a.mass), f64::from(b.mass));
-    let total = m1 + m2;
-    let center = (a.position.as_dvec3() * m1 + b.position.as_dvec3() * m2) / total;
-    let velocity = (a.velocity.as_dvec3() * m1 + b.velocity.as_dvec3() * m2) / total;
-    let impact = (a.velocity - b.velocity).as_dvec3().length();
+    let count = count.max(2);
+    let h = body.half_extents;
+    let volume = f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
+    let parent = Parent::single(body, speed, seed);
+    match sizes {
+        FragmentSizes::Equal => {
+            let half = maths::cbrt(volume / f64::from(count));
+            lay_out(parent, first_id, |_| vec![half; count as usize])
+        }
+        FragmentSizes::PowerLaw { exponent } => {
+            let largest = maths::cbrt(volume);
+            let floor = if min_size > 0.0 {
+                f64::from(min_size) / 2.0
+            } else {
+                largest / 100.0
+            };
+            lay_out(parent, first_id, |rng| {
+                power_law_halves(volume, floor.min(largest), largest, count, exponent, rng)
+            })
+        }
+    }
+}
 
-    let (low, high) = (a.id.0.min(b.id.0), a.id.0.max(b.id.0));
-    let mut rng = Rng::stream(Rng::stream(seed, low).next_u64(), high);
+/// The fragments of `parent` with the half-edges `sizes` gives (drawn
+/// from its random stream after the turn, before the speeds): mass in
+/// proportion to volume (equal when the halves are), the parent's momentum
+/// kept, each at the center of mass plus a direction of a turned Fibonacci
+/// lattice scaled so that no two touch, moving apart at its spread of the
+/// impact speed.
+fn lay_out(parent: Parent, first_id: BodyId, sizes: impl FnOnce(&mut Rng) -> Vec<f64>) -> Vec<BodyState> {
+    let Parent {
+        total,
+        center,
+        velocity,
+        impact,
+        spread,
+        role,
+        mut rng,
+    } = parent;
     let turn = maths::rotation_yxz(
         rng.range(0.0, std::f64::consts::TAU),
         rng.range(0.0, std::f64::consts::TAU),
@@ -236,15 +334,6 @@ fn lay_out(
         spreads.iter().zip(&masses).map(|(s, m)| *s * *m).sum::<DVec3>() / total
     };
 
-    let role = match (
-        a.role.is_source() || b.role.is_source(),
-        a.role.is_adopter() || b.role.is_adopter(),
-    ) {
-        (true, true) => GravityRole::SourceAndAdopter,
-        (true, false) => GravityRole::Source,
-        (false, true) => GravityRole::Adopter,
-        (false, false) => GravityRole::Inert,
-    };
     directions
         .iter()
         .zip(&spreads)

@@ -1,0 +1,146 @@
+//! The checks of a scenario's events that span fields (the parser has
+//! checked each value): a Spawn with something to spawn, its bodies' shapes
+//! and shells, a direction that is one, and the bodies events name where
+//! the file already tells whether they exist (docs/design.md, "Events").
+
+use std::collections::HashSet;
+
+use super::checked::MAX_BODIES;
+use super::events::{Event, Spawn};
+use super::format::{Generator, Scenario};
+use super::load::shape_problem;
+use crate::input::InputError;
+
+impl Scenario {
+    /// Checks every event; the first problem names `events[i].field`.
+    pub(super) fn check_events(&self) -> Result<(), InputError> {
+        let initial = self.initial_ids();
+        let mut spawned: u64 = 0;
+        for (i, event) in self.events.iter().enumerate() {
+            let problem = match event {
+                Event::Spawn(spawn) => {
+                    spawned = spawned.saturating_add(spawn_count(spawn));
+                    self.spawn_problem(spawn)
+                }
+                Event::Fire(fire) if fire.from == Some([0.0; 3]) => Some((
+                    "from".to_owned(),
+                    "must not be (0, 0, 0): it is the direction the impactor comes from".to_owned(),
+                )),
+                _ => None,
+            };
+            let problem = problem.or_else(|| {
+                let id = event.body()?;
+                let field = if matches!(event, Event::Fire(_)) { "target" } else { "body" };
+                self.body_problem(id, &initial, matches!(event, Event::Breakup(_)))
+                    .map(|p| (field.to_owned(), p))
+            });
+            if let Some((field, problem)) = problem {
+                return Err(InputError::new(
+                    &self.origin,
+                    format!("field `events[{i}].{field}`: {problem}"),
+                ));
+            }
+        }
+        let total = self.body_count().saturating_add(spawned);
+        if total > MAX_BODIES {
+            return Err(InputError::new(
+                &self.origin,
+                format!(
+                    "field `events`: {total} bodies in all, with those the events spawn, would not fit in memory (at \
+                     most {MAX_BODIES})"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The ids of the bodies the scenario starts with: explicit ones given
+    /// by id; generated ones are a range (see [`Self::is_initial`]).
+    fn initial_ids(&self) -> HashSet<u64> {
+        self.bodies
+            .iter()
+            .enumerate()
+            .map(|(i, b)| b.id.unwrap_or(i as u64))
+            .collect()
+    }
+
+    /// What is wrong with an event naming body `id`: an id below `next_id`
+    /// that no body has at the start (such ids are never handed out
+    /// again), or, for a breakup, a body there that does not interact.
+    fn body_problem(&self, id: u64, initial: &HashSet<u64>, breaks_up: bool) -> Option<String> {
+        let first_generated = self.first_generated_id();
+        let generated = id >= first_generated && id - first_generated < self.generated_count();
+        if initial.contains(&id) || generated {
+            let explicit = self.bodies.iter().enumerate().find(|(i, b)| b.id.unwrap_or(*i as u64) == id);
+            let interacts = match explicit {
+                Some((_, b)) => b.interacts,
+                None => self.generator_of(id - first_generated).is_none_or(|t| t.interacts),
+            };
+            return (breaks_up && !interacts).then(|| {
+                format!("body {id} does not interact (a planet): only interacting bodies break up")
+            });
+        }
+        (id < self.next_id()).then(|| {
+            format!(
+                "there is no body {id} at the start, and no body will get that id (fresh ids start at {})",
+                self.next_id()
+            )
+        })
+    }
+
+    /// Bodies the generators make.
+    fn generated_count(&self) -> u64 {
+        self.generators.iter().map(Generator::count).fold(0, u64::saturating_add)
+    }
+
+    /// What the generated body at `offset` (from the first generated id) is
+    /// made of.
+    fn generator_of(&self, mut offset: u64) -> Option<&super::format::Template> {
+        for generator in &self.generators {
+            if offset < generator.count() {
+                return Some(generator.template());
+            }
+            offset -= generator.count();
+        }
+        None
+    }
+
+    /// A Spawn's problem: nothing to spawn, an `id` given, a body's shape,
+    /// a shell's radii or source; the field (below the event) and what.
+    fn spawn_problem(&self, spawn: &Spawn) -> Option<(String, String)> {
+        if spawn.bodies.is_empty() && spawn.generators.is_empty() {
+            return Some((
+                "bodies".to_owned(),
+                "a Spawn needs at least one body or generator".to_owned(),
+            ));
+        }
+        for (j, body) in spawn.bodies.iter().enumerate() {
+            if body.id.is_some() {
+                return Some((
+                    format!("bodies[{j}].id"),
+                    "a spawned body gets a fresh id: leave out `id`".to_owned(),
+                ));
+            }
+            if let Some((field, problem)) = shape_problem(body) {
+                return Some((format!("bodies[{j}].{field}"), problem.to_owned()));
+            }
+        }
+        for (j, generator) in spawn.generators.iter().enumerate() {
+            if let Generator::Shell(shell) = generator
+                && let Err((field, problem)) = self.check_shell(shell)
+            {
+                return Some((format!("generators[{j}].{field}"), problem));
+            }
+        }
+        None
+    }
+}
+
+/// Bodies a Spawn makes.
+fn spawn_count(spawn: &Spawn) -> u64 {
+    spawn
+        .generators
+        .iter()
+        .map(Generator::count)
+        .fold(spawn.bodies.len() as u64, u64::saturating_add)
+}
