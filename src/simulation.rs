@@ -66,6 +66,13 @@ impl Simulation {
         self.app.world().resource::<EventQueue>().pending(self.updates())
     }
 
+    /// `scenario`, the one this run started from, with every event of the
+    /// run (its own and those recorded): replayed, it reaches this run's
+    /// states.
+    pub fn session(&self, scenario: &Scenario) -> Scenario {
+        self.app.world().resource::<EventQueue>().session(scenario)
+    }
+
     /// Records `event` at the update the run is at and applies it at once,
     /// as the window's tools do.
     pub fn record_event(&mut self, event: Event) {

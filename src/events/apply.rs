@@ -130,31 +130,41 @@ fn apply_spawn(world: &mut World, spawn: &Spawn, around: &[u64]) -> Result<(), S
     add(world, &made, 0, "the spawn")
 }
 
-/// A Fire: the impactor `distance` from the target in the direction
-/// `from` (or a seeded one), moving at the target's velocity plus `speed`
-/// towards it.
+/// A Fire: the impactor about `distance` from the target in the
+/// direction `from` (or a seeded one), moving at the target's velocity
+/// plus `speed` towards it.
 fn apply_fire(world: &mut World, fire: &Fire) -> Result<(), String> {
     let (_, target) = find(world, fire.target)?;
-    let seed = world.resource::<SimulationSettings>().seed;
+    let settings = world.resource::<SimulationSettings>();
+    let (seed, time_step) = (settings.seed, settings.time_step);
     let id = world.resource::<NextBodyId>().0;
     let direction = match fire.from {
         Some(from) => DVec3::from_array(from.map(f64::from)).normalize(),
         None => random_direction(&mut Rng::stream(Rng::stream(seed, FIRE_STREAM).next_u64(), id)),
     };
-    let impactor = impactor(&target, direction, fire, id);
+    let impactor = impactor(&target, direction, fire, time_step, id);
     add(world, &[impactor], 0, "the impactor")
 }
 
 /// The impactor of `fire` at `target`, from `direction` (a unit vector),
-/// with id `id`.
-pub fn impactor(target: &BodyState, direction: DVec3, fire: &Fire, id: u64) -> BodyState {
+/// with id `id`: `distance` away, rounded to a whole number (at least 1) of
+/// updates' travel at `speed` (`time_step` long), so that its center would
+/// meet the target's at an update rather than pass it between two (the
+/// broad phase sees where bodies are after each update, not on the way).
+pub fn impactor(target: &BodyState, direction: DVec3, fire: &Fire, time_step: f32, id: u64) -> BodyState {
     let Template {
         half_extents,
         mass,
         role,
         interacts,
     } = fire.body;
-    let position = target.position.as_dvec3() + direction * f64::from(fire.distance);
+    let travel = f64::from(fire.speed) * f64::from(time_step);
+    let distance = if travel > 0.0 {
+        (f64::from(fire.distance) / travel).round().max(1.0) * travel
+    } else {
+        f64::from(fire.distance)
+    };
+    let position = target.position.as_dvec3() + direction * distance;
     let velocity = target.velocity.as_dvec3() - direction * f64::from(fire.speed);
     BodyState::new_box(
         BodyId(id),

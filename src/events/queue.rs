@@ -95,6 +95,15 @@ impl EventQueue {
         self.events.iter()
     }
 
+    /// `scenario` (the run's start) with every event of the run, in the
+    /// order they happen.
+    pub fn session(&self, scenario: &Scenario) -> Scenario {
+        Scenario {
+            events: self.events.iter().map(|q| q.event.clone()).collect(),
+            ..scenario.clone()
+        }
+    }
+
     /// The events still to come after `updates` updates, each counted
     /// from then (what a snapshot taken then holds).
     pub fn pending(&self, updates: u64) -> Vec<Event> {

@@ -18,4 +18,4 @@ pub use checked::{MAX_BODIES, MAX_FRAGMENTS};
 pub use events::{Breakup, Event, Fire, Remove, Set, Spawn};
 pub use format::{Body, Cloud, Generator, Scenario, Shape, Shell, Template};
 pub use scale::CannotResize;
-pub use snapshot::{Snapshot, beyond_a_scenario, write_snapshot};
+pub use snapshot::{Snapshot, beyond_a_scenario, scenario_text, write_session, write_snapshot};

@@ -90,12 +90,32 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
         "// State hash {} (docs/design.md, \"State hash\").",
         StateHash::of(snapshot.bodies, snapshot.next_id)
     )?;
+    writeln!(out, "{}", scenario_text(&snapshot.to_scenario())?)?;
+    out.flush()
+}
+
+/// `scenario` as a file writes it: RON, a field a line and a body or an
+/// event a line.
+pub fn scenario_text(scenario: &Scenario) -> io::Result<String> {
     let layout = PrettyConfig::new()
         .struct_names(true)
         .depth_limit(2)
         .extensions(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES);
-    let text = ron::ser::to_string_pretty(&snapshot.to_scenario(), layout).map_err(io::Error::other)?;
-    writeln!(out, "{text}")?;
+    ron::ser::to_string_pretty(scenario, layout).map_err(io::Error::other)
+}
+
+/// Writes a session: the scenario a run started from with every event of
+/// the run, the scenario's and those recorded (`session`), after a
+/// comment line saying how far the run had gone. Replayed, it reaches the
+/// run's states (docs/design.md, "Events").
+pub fn write_session(session: &Scenario, updates: u64, mut out: impl Write) -> io::Result<()> {
+    let name = ron::to_string(&session.name).map_err(io::Error::other)?;
+    writeln!(
+        out,
+        "// A session of {name}, written by Kessler after {updates} updates: the scenario it started from with \
+         every event, its own and those recorded."
+    )?;
+    writeln!(out, "{}", scenario_text(session)?)?;
     out.flush()
 }
 
