@@ -36,6 +36,7 @@ fn shipped_scenarios_validate() {
         ("far_outliers.ron", "100006 bodies"),
         ("debris_ring.ron", "3001 bodies"),
         ("collapse.ron", "300 bodies"),
+        ("asat.ron", "3001 bodies, 1 event"),
     ] {
         let out = kessler().args(["validate", &scenario(file)]).output().unwrap();
         assert!(out.status.success(), "{file}: {}", String::from_utf8_lossy(&out.stderr));

@@ -297,3 +297,20 @@ fn a_recorded_session_replays_exactly() {
     assert!(text.contains("Remove(update: 4, body: 4)"), "{text}");
     assert_eq!(run(&text, ExecutionMode::Sequential, 1, 30), live.snapshot());
 }
+
+/// `scenarios/asat.ron`: the interceptor shatters satellite 1 within its
+/// distance over its speed (5 updates) and 5 more, and its debris is there.
+#[test]
+fn the_asat_scene_s_interceptor_hits_its_satellite() {
+    // A copy: the dumps are written beside it.
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("asat.ron");
+    std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/asat.ron"), &copy).unwrap();
+    let (summary, _, rows) = headless(&copy, 100, &[]);
+    assert_eq!(count(&summary, "shatters"), 0, "{summary}");
+    assert!(rows.iter().any(|r| r.id == 1));
+    let (summary, _, rows) = headless(&copy, 110, &[]);
+    assert_eq!(count(&summary, "shatters"), 1, "{summary}");
+    assert!(!rows.iter().any(|r| r.id == 1), "{summary}");
+    assert!(rows.len() > 3001 + 10, "{summary}");
+}

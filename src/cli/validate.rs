@@ -9,8 +9,13 @@ use crate::scenario::Scenario;
 pub fn validate(path: &Path) -> Result<(), Failure> {
     let scenario = Scenario::load(path)?;
     let bodies = scenario.bodies()?;
+    let events = match scenario.events.len() {
+        0 => String::new(),
+        1 => ", 1 event".to_owned(),
+        n => format!(", {n} events"),
+    };
     let verdict = format!(
-        "{}: ok — \"{}\", {} bodies",
+        "{}: ok — \"{}\", {} bodies{events}",
         scenario.origin,
         scenario.name,
         bodies.len()
