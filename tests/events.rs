@@ -29,7 +29,14 @@ struct Row {
 fn headless(file: &Path, steps: u64, extra: &[&str]) -> (String, String, Vec<Row>) {
     let dump = file.with_extension(format!("{steps}.csv"));
     let out = kessler()
-        .args(["headless", "--mode", "sequential", "--steps", &steps.to_string(), "--dump"])
+        .args([
+            "headless",
+            "--mode",
+            "sequential",
+            "--steps",
+            &steps.to_string(),
+            "--dump",
+        ])
         .arg(&dump)
         .args(extra)
         .arg(file)
@@ -59,7 +66,13 @@ fn headless(file: &Path, steps: u64, extra: &[&str]) -> (String, String, Vec<Row
 /// The number before `word` in the summary (`5 shatters`).
 fn count(summary: &str, word: &str) -> u64 {
     let at = summary.find(word).unwrap_or_else(|| panic!("no {word:?} in {summary}"));
-    summary[..at].trim_end().rsplit([' ', '(']).next().unwrap().parse().unwrap()
+    summary[..at]
+        .trim_end()
+        .rsplit([' ', '('])
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
@@ -101,7 +114,10 @@ fn a_spawn_adds_its_bodies_at_its_update() {
     assert_eq!(count(&after, "at the end"), 57, "{after}");
     assert_eq!(count(&after, "events applied"), 1, "{after}");
     // Fresh ids from the next id: the body first, then the shell.
-    assert_eq!(rows.iter().map(|r| r.id).collect::<Vec<_>>(), (0..57).collect::<Vec<_>>());
+    assert_eq!(
+        rows.iter().map(|r| r.id).collect::<Vec<_>>(),
+        (0..57).collect::<Vec<_>>()
+    );
     // The shell is on circular orbits around the planet: r·v² = G·M.
     for r in rows.iter().filter(|r| r.id >= 7) {
         let radius = r.position.iter().map(|x| x * x).sum::<f64>().sqrt();
@@ -164,14 +180,17 @@ fn a_breakup_keeps_mass_volume_and_momentum() {
     for axis in 0..3 {
         let momentum: f64 = fragments.iter().map(|r| r.mass * r.velocity[axis]).sum();
         let expected = parent.mass * parent.velocity[axis];
-        assert!((momentum - expected).abs() < 1e-4, "axis {axis}: {momentum} vs {expected}");
+        assert!(
+            (momentum - expected).abs() < 1e-4,
+            "axis {axis}: {momentum} vs {expected}"
+        );
     }
     // They fly apart at about the speed asked for.
     let mean_speed = fragments
         .iter()
         .map(|r| {
             (0..3)
-                .map(|a| (r.velocity[a] - parent.velocity[a]).powi(2))
+                .map(|a| (r.velocity[a] - parent.velocity[a]) * (r.velocity[a] - parent.velocity[a]))
                 .sum::<f64>()
                 .sqrt()
         })
@@ -195,7 +214,10 @@ fn a_fired_impactor_shatters_its_target_within_distance_over_speed() {
         assert!(rows.iter().any(|r| r.id == 1));
         let (summary, _, rows) = headless(&file, 20 + 10 + 5, &[]);
         assert_eq!(count(&summary, "shatters"), 1, "{from}: {summary}");
-        assert!(!rows.iter().any(|r| r.id == 1 || r.id == 6), "{from}: target and impactor shattered");
+        assert!(
+            !rows.iter().any(|r| r.id == 1 || r.id == 6),
+            "{from}: target and impactor shattered"
+        );
     }
 }
 

@@ -535,3 +535,84 @@ fn fifos_as_settings_or_saved_scenario_warn_instead_of_hanging() {
         "the FIFO was replaced"
     );
 }
+
+/// The sandbox's tools through the message the panel's buttons send
+/// (`--actions`): a launched ring, a fired impactor, a breakup, a removal,
+/// a saved session; the state the window had at its close (`--dump`) is
+/// the one `kessler headless SESSION --steps U` reaches, and the tools'
+/// effects show in the pictures.
+#[test]
+fn a_session_of_tool_actions_replays_headless_to_the_windows_state() {
+    if !window_available("a_session_of_tool_actions_replays_headless_to_the_windows_state") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("ring.ron");
+    std::fs::write(
+        &scenario,
+        "Scenario(name: \"ring\", bodies: [
+            Body(position: (0, 0, 0), shape: Sphere(radius: 430), mass: 4000, role: Source, interacts: false, absorbs: true),
+        ], generators: [Shell(count: 300, around: 0, inner_radius: 700, outer_radius: 800, inclination: 0)])",
+    )
+    .unwrap();
+    let session = dir.path().join("session.ron");
+    let actions = dir.path().join("actions.ron");
+    std::fs::write(
+        &actions,
+        format!(
+            "[
+                (frame: 3, action: Launch(altitude: 150, inclination: 60, count: 24, half_size: 2, mass: 3)),
+                (frame: 5, action: Select(3)),
+                (frame: 5, action: Fire(speed: 6, distance: 30, from_camera: true)),
+                (frame: 7, action: Select(5)),
+                (frame: 7, action: Breakup(fragments: 40, speed: 1.5)),
+                (frame: 9, action: Select(7)),
+                (frame: 9, action: Remove),
+                (frame: 12, action: SaveSession({:?})),
+            ]",
+            session.display().to_string()
+        ),
+    )
+    .unwrap();
+    let dump = dir.path().join("window.csv");
+    let (shot, stdout, _, _) = run_window_frames(
+        dir.path(),
+        "tools",
+        "(ups: 60)",
+        30,
+        &[
+            "--actions",
+            actions.to_str().unwrap(),
+            "--dump",
+            dump.to_str().unwrap(),
+            scenario.to_str().unwrap(),
+        ],
+    );
+    let updates: u64 = stdout
+        .split("closed after ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no update count at the close: {stdout}"));
+    let text = std::fs::read_to_string(&session).expect("the session was saved");
+    for kind in ["Spawn(", "Fire(", "Breakup(", "Remove("] {
+        assert!(text.contains(kind), "{kind} not recorded:\n{text}");
+    }
+    let replay = dir.path().join("replay.csv");
+    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+        .args(["headless", "--steps", &updates.to_string(), "--dump"])
+        .arg(&replay)
+        .arg(&session)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let window_state = std::fs::read_to_string(&dump).unwrap();
+    assert!(window_state.lines().count() > 300 + 24 + 40, "{updates} updates");
+    assert_eq!(
+        std::fs::read_to_string(&replay).unwrap(),
+        window_state,
+        "the replay of {} after {updates} updates",
+        session.display()
+    );
+    assert!(shot.exists());
+}

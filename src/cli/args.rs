@@ -227,6 +227,15 @@ pub struct RunArgs {
     /// `Render` runs read it).
     #[arg(long, value_name = "FILE", requires = "frames")]
     pub frame_report: Option<PathBuf>,
+    /// With --frames: at the close, write the state as `headless --dump`
+    /// writes it, and print the update count and the state's hash.
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub dump: Option<PathBuf>,
+    /// Tool actions to take at given frames, as the panel's buttons take
+    /// them: a RON list of `(frame: N, action: Launch(...) | Fire(...) |
+    /// Breakup(...) | Remove | Rewind | Select(ID) | SaveSession("FILE"))`.
+    #[arg(long, value_name = "FILE")]
+    pub actions: Option<PathBuf>,
 }
 
 /// `--render` on the command line: the thesis's three drawing methods.

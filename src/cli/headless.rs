@@ -162,7 +162,11 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         .collect();
     let log = sim.event_log();
     if let Some(first) = &log.first_skipped {
-        eprintln!("kessler: warning: {}: {}", printable(&scenario.origin), printable(first));
+        eprintln!(
+            "kessler: warning: {}: {}",
+            printable(&scenario.origin),
+            printable(first)
+        );
     }
     let events = if scenario.events.is_empty() {
         String::new()

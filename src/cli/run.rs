@@ -19,10 +19,12 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
         || args.vsync.is_some()
         || args.ups.is_some()
         || args.frame_report.is_some()
+        || args.dump.is_some()
+        || args.actions.is_some()
     {
         return Err(Failure::input(
             "this kessler was built without the window (cargo feature `gui`); \
-             --frames, --screenshot, --render, --vsync, --ups and --frame-report need it",
+             --frames, --screenshot, --render, --vsync, --ups, --frame-report, --dump and --actions need it",
         ));
     }
     let mut scenario = Scenario::load_or_default(args.scenario.as_deref())?;
@@ -63,6 +65,8 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
         split: args.split,
         ups: args.ups,
         frame_report: args.frame_report,
+        dump: args.dump,
+        actions: args.actions,
     };
     crate::ui::run(options).map_err(Failure::from)
 }

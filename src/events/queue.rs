@@ -129,7 +129,12 @@ pub fn apply_due_events(world: &mut World) {
     let updates = world.resource::<SimulationFault>().updates;
     loop {
         let queue = world.resource::<EventQueue>();
-        let Some(next) = queue.events.get(queue.done).filter(|q| q.event.update() <= updates).cloned() else {
+        let Some(next) = queue
+            .events
+            .get(queue.done)
+            .filter(|q| q.event.update() <= updates)
+            .cloned()
+        else {
             break;
         };
         let around = std::mem::take(&mut world.resource_mut::<EventQueue>().around);

@@ -30,7 +30,11 @@ impl Scenario {
             };
             let problem = problem.or_else(|| {
                 let id = event.body()?;
-                let field = if matches!(event, Event::Fire(_)) { "target" } else { "body" };
+                let field = if matches!(event, Event::Fire(_)) {
+                    "target"
+                } else {
+                    "body"
+                };
                 self.body_problem(id, &initial, matches!(event, Event::Breakup(_)))
                     .map(|p| (field.to_owned(), p))
             });
@@ -71,14 +75,17 @@ impl Scenario {
         let first_generated = self.first_generated_id();
         let generated = id >= first_generated && id - first_generated < self.generated_count();
         if initial.contains(&id) || generated {
-            let explicit = self.bodies.iter().enumerate().find(|(i, b)| b.id.unwrap_or(*i as u64) == id);
+            let explicit = self
+                .bodies
+                .iter()
+                .enumerate()
+                .find(|(i, b)| b.id.unwrap_or(*i as u64) == id);
             let interacts = match explicit {
                 Some((_, b)) => b.interacts,
                 None => self.generator_of(id - first_generated).is_none_or(|t| t.interacts),
             };
-            return (breaks_up && !interacts).then(|| {
-                format!("body {id} does not interact (a planet): only interacting bodies break up")
-            });
+            return (breaks_up && !interacts)
+                .then(|| format!("body {id} does not interact (a planet): only interacting bodies break up"));
         }
         (id < self.next_id()).then(|| {
             format!(
@@ -90,7 +97,10 @@ impl Scenario {
 
     /// Bodies the generators make.
     fn generated_count(&self) -> u64 {
-        self.generators.iter().map(Generator::count).fold(0, u64::saturating_add)
+        self.generators
+            .iter()
+            .map(Generator::count)
+            .fold(0, u64::saturating_add)
     }
 
     /// What the generated body at `offset` (from the first generated id) is

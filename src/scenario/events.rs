@@ -357,24 +357,39 @@ mod tests {
         set.apply(&mut settings);
         assert_eq!(settings.shatter_threshold, 10.0);
         assert_eq!(settings.fragment_sizes, FragmentSizes::PowerLaw { exponent: 1.71 });
-        assert_eq!(settings.shatter_fragments, SimulationSettings::DEFAULT.shatter_fragments);
+        assert_eq!(
+            settings.shatter_fragments,
+            SimulationSettings::DEFAULT.shatter_fragments
+        );
     }
 
     #[test]
     fn bad_events_name_the_event_and_the_field() {
         for (events, needle) in [
-            ("Fire(update: 4, target: 1, speed: -5, distance: 50)", "field `events[0].speed`"),
-            ("Remove(update: 1), Fire(update: 4, target: 1, speed: NaN, distance: 50)", "events[0]"),
+            (
+                "Fire(update: 4, target: 1, speed: -5, distance: 50)",
+                "field `events[0].speed`",
+            ),
+            (
+                "Remove(update: 1), Fire(update: 4, target: 1, speed: NaN, distance: 50)",
+                "events[0]",
+            ),
             (
                 "Remove(update: 1, body: 0), Fire(update: 4, target: 1, speed: NaN, distance: 50)",
                 "field `events[1].speed`",
             ),
             ("Remove(update: 1e13, body: 0)", "events[0].update"),
             ("Remove(update: 1000000000001, body: 0)", "events[0].update"),
-            ("Breakup(update: 1, body: 0, fragments: 1, speed: 1)", "events[0].fragments"),
+            (
+                "Breakup(update: 1, body: 0, fragments: 1, speed: 1)",
+                "events[0].fragments",
+            ),
             ("Explode(update: 1, body: 0)", "events[0]"),
             ("Remove(update: 1, body: 0, when: 3)", "`when`"),
-            ("Set(update: 1, time_step: 2)", "events[0].time_step`: is applied on restart"),
+            (
+                "Set(update: 1, time_step: 2)",
+                "events[0].time_step`: is applied on restart",
+            ),
             ("Set(update: 1, shatter_threshold: -1)", "events[0].shatter_threshold"),
             ("Set(update: 1, threshold: 1)", "unknown field `threshold`"),
             ("Set(update: 1)", "at least one live setting"),

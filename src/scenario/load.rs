@@ -235,7 +235,12 @@ impl Scenario {
     /// past the highest explicit id.
     pub fn bodies(&self) -> Result<Vec<BodyState>, InputError> {
         let mut out = Vec::with_capacity(usize::try_from(self.body_count()).unwrap_or(0));
-        out.extend(self.bodies.iter().enumerate().map(|(i, b)| b.state(b.id.unwrap_or(i as u64))));
+        out.extend(
+            self.bodies
+                .iter()
+                .enumerate()
+                .map(|(i, b)| b.state(b.id.unwrap_or(i as u64))),
+        );
         let mut first_id = self.first_generated_id();
         let obstacles = Obstacles::new(&self.bodies);
         for (i, generator) in self.generators.iter().enumerate() {

@@ -2,9 +2,9 @@
 //! checks, the generators, the events, loading, and the built-in scenes.
 
 mod builtin;
+pub mod checked;
 mod event_checks;
 pub mod events;
-pub mod checked;
 mod fields;
 mod format;
 pub mod generators;

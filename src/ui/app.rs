@@ -11,6 +11,8 @@ use super::measure::{CapturePlugin, GpuMemoryPlugin, ScriptedRun};
 use super::plugins::SandboxPlugins;
 use super::session::{SandboxState, Start, WindowError, WindowOptions};
 use super::sets::SandboxSystems;
+use super::tools::{ActionScript, DumpAtClose};
+use crate::events::EventsPlugin;
 use crate::execution::Execution;
 use crate::systems::SimulationPlugins;
 
@@ -47,7 +49,7 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         }),
         ..default()
     }))
-    .add_plugins((EguiPlugin::default(), SimulationPlugins))
+    .add_plugins((EguiPlugin::default(), SimulationPlugins, EventsPlugin))
     .insert_resource(execution)
     .insert_resource(settings)
     .insert_resource(file)
@@ -56,6 +58,7 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         Update,
         (
             SandboxSystems::BuildScene,
+            SandboxSystems::Tools,
             SandboxSystems::Simulate,
             SandboxSystems::View,
         )
@@ -68,6 +71,12 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
     .add_plugins(SandboxPlugins {
         record_all_frames: options.frames.is_some(),
     });
+    if let Some(path) = &options.actions {
+        app.insert_resource(ActionScript::load(path)?);
+    }
+    if let Some(path) = &options.dump {
+        app.insert_resource(DumpAtClose(path.clone()));
+    }
     if let Some(frames) = options.frames {
         let mut run = ScriptedRun::new(frames, options.screenshot.clone());
         run.frame_report.clone_from(&options.frame_report);

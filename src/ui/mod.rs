@@ -5,7 +5,9 @@
 //! update clock) on nothing of the window but the phases; [`view`] (cameras,
 //! picking) on it; [`draw`] (what is drawn, and how) on both; [`measure`]
 //! (frame times, GPU memory, scripted runs) on `session` and `draw`;
-//! [`overlay`] (the egui panel and HUD) on `session`, `view` and `measure`.
+//! [`tools`] (launch, fire, break up, remove, rewind, scripted actions) on
+//! `session`, `view` and `measure`; [`overlay`] (the egui panel and HUD)
+//! on `session`, `view`, `measure` and `tools`.
 //! The simulation itself is the same headless core (`crate::systems`),
 //! driven at a chosen update rate.
 //!
@@ -25,6 +27,7 @@ pub mod overlay;
 mod plugins;
 pub mod session;
 pub mod sets;
+pub mod tools;
 pub mod view;
 
 pub use crate::draw_method::DrawMethod;

@@ -9,6 +9,7 @@ use super::draw::{
 use super::measure::FrameStatsPlugin;
 use super::overlay::{CascadePlugin, HudPlugin, PanelPlugin};
 use super::session::{DrivePlugin, ScenePlugin, SettingsFilePlugin, SnapshotSavePlugin};
+use super::tools::ToolsPlugin;
 use super::view::{CameraPlugin, SelectionPlugin};
 
 /// Every plugin of the window beside Bevy's, egui's and the simulation's,
@@ -33,6 +34,7 @@ impl PluginGroup for SandboxPlugins {
             .add(PresentModePlugin)
             .add(CameraPlugin)
             .add(SelectionPlugin)
+            .add(ToolsPlugin)
             .add(PanelPlugin)
             .add(HudPlugin)
             .add(FrameStatsPlugin {

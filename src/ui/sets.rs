@@ -9,6 +9,8 @@ use bevy::prelude::*;
 pub enum SandboxSystems {
     /// `Update`: rebuild the scene when a restart was asked for.
     BuildScene,
+    /// `Update`: the tools' actions, each recorded as an event.
+    Tools,
     /// `Update`: apply the live settings, run the updates the clock owes.
     Simulate,
     /// `Update`: cameras and picking, on the bodies where they are now.

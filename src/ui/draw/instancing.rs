@@ -55,8 +55,8 @@ fn spawn_instanced_bodies(mut commands: Commands, mut meshes: ResMut<Assets<Mesh
 struct GatherScratch {
     staging: Vec<InstanceData>,
     looks: LookTracker,
-    /// (updates run, scene generation) of the last publish.
-    published: Option<(u64, u64)>,
+    /// (updates run, scene generation, edits) of the last publish.
+    published: Option<(u64, u64, u64)>,
 }
 
 /// The components a cube's instance is made of.
@@ -90,7 +90,7 @@ fn gather_instances(
     let Some(InstancedBodies(slot)) = instanced.iter().next() else {
         return;
     };
-    let now = (clock.updates_total, state.generation);
+    let now = (clock.updates_total, state.generation, state.edits);
     if scratch.published == Some(now) && !settings.is_changed() {
         return;
     }

@@ -7,7 +7,7 @@ use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use super::cascade::{Cascade, curve_plot};
 use crate::components::BodyId;
 use crate::resources::GravityMethod;
-use crate::systems::{CollisionStats, GravityInUse, STAGES, StageTimings, Timing};
+use crate::systems::{CollisionStats, GravityInUse, STAGES, SimulationFault, StageTimings, Timing};
 use crate::ui::measure::{FrameStats, HISTORY};
 use crate::ui::session::SandboxSettings;
 use crate::ui::session::SandboxState;
@@ -43,6 +43,7 @@ fn hud(
     cascade: Res<Cascade>,
     gravity: Res<GravityInUse>,
     bodies: Query<(), With<BodyId>>,
+    fault: Res<SimulationFault>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     egui::Window::new("HUD")
@@ -55,6 +56,7 @@ fn hud(
             let achieved = clock.achieved_ups();
             let status = if state.paused { " — paused" } else { "" };
             ui.label(format!("UPS {achieved:.0} of {target:.0}{status}"));
+            ui.label(format!("update {}", fault.updates));
             let dropped = clock.dropped_per_second();
             if dropped > 0.5 {
                 ui.colored_label(

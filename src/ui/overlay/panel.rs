@@ -13,6 +13,7 @@ use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy};
 use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, FragmentSizes, GravityMethod};
 use crate::rng::Rng;
+use crate::systems::SimulationFault;
 use crate::ui::session::SandboxState;
 use crate::ui::session::SnapshotSave;
 use crate::ui::session::{
@@ -20,12 +21,14 @@ use crate::ui::session::{
     SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,
 };
 use crate::ui::sets::SandboxSystems;
+use crate::ui::tools::{CHECKPOINT_EVERY, Checkpoints, ToolAction, ToolSettings};
 use crate::ui::view::{Selection, selected_info};
 
 /// Folder the scenario picker lists.
 pub const SCENARIO_DIR: &str = "scenarios";
 
-/// The settings panel at the left, and the run keys (Space, N, R).
+/// The settings panel at the left, and the run keys (Space, N, R); the
+/// tools' keys are the tools' own.
 pub struct PanelPlugin;
 
 impl Plugin for PanelPlugin {
@@ -64,6 +67,13 @@ fn panel(
     mut save: ResMut<SnapshotSave>,
     mut save_field: Local<SaveField>,
     cascade: Res<Cascade>,
+    (mut tool_settings, mut actions, checkpoints, fault): (
+        ResMut<ToolSettings>,
+        MessageWriter<ToolAction>,
+        Res<Checkpoints>,
+        Res<SimulationFault>,
+    ),
+    mut session_field: Local<SessionField>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     if !ctx.egui_wants_keyboard_input() {
@@ -99,8 +109,19 @@ fn panel(
                 physics(ui, &mut edited);
                 totals_readout(ui, &cascade.totals, &cascade.absorbed);
                 ui.separator();
+                let mut tools = tool_settings.clone();
+                let has_selection = selection.entity.is_some();
+                let sent = tools_section(ui, &mut tools, has_selection, &checkpoints, fault.updates);
+                if tools != *tool_settings {
+                    *tool_settings = tools;
+                }
+                for action in sent {
+                    actions.write(action);
+                }
+                ui.separator();
                 scene(ui, &mut edited, &mut state, &mut path_field.0, &mut files);
                 save_scenario(ui, &mut save, &mut save_field.0);
+                save_session(ui, &mut actions, &mut session_field.0);
                 ui.separator();
                 rendering(ui, &mut edited);
                 ui.separator();
@@ -329,6 +350,135 @@ fn save_scenario(ui: &mut egui::Ui, save: &mut SnapshotSave, field: &mut String)
         }
         None => {}
     }
+}
+
+/// The session file name the panel offers, edited in place.
+struct SessionField(String);
+
+impl Default for SessionField {
+    fn default() -> Self {
+        Self("session.ron".into())
+    }
+}
+
+/// "Save session…": the scenario the scene started from with every event
+/// so far (the tools' and the panel's included), to a new file.
+fn save_session(ui: &mut egui::Ui, actions: &mut MessageWriter<ToolAction>, field: &mut String) {
+    ui.horizontal(|ui| {
+        ui.add(egui::TextEdit::singleline(field).desired_width(150.0));
+        let button = ui
+            .add_enabled(!field.trim().is_empty(), egui::Button::new("Save session…"))
+            .on_hover_text(
+                "the scenario this scene started from with every event so far: `kessler headless` replays it \
+                 exactly (never over an existing file)",
+            );
+        if button.clicked() {
+            actions.write(ToolAction::SaveSession(PathBuf::from(field.trim())));
+        }
+    });
+}
+
+/// The tools: what they use, and the actions the buttons ask for.
+fn tools_section(
+    ui: &mut egui::Ui,
+    tools: &mut ToolSettings,
+    has_selection: bool,
+    checkpoints: &Checkpoints,
+    updates: u64,
+) -> Vec<ToolAction> {
+    let mut sent = Vec::new();
+    ui.label("Tools (each recorded as an event)");
+    ui.horizontal(|ui| {
+        if ui
+            .button("🚀 Launch")
+            .on_hover_text("L: satellites on circular orbits around the heaviest planet")
+            .clicked()
+        {
+            sent.push(tools.launch());
+        }
+        ui.add(drag_value(&mut tools.count, 1..=10_000).speed(1.0))
+            .on_hover_text("satellites on the ring (1: one)");
+        ui.label("on a ring");
+    });
+    ui.add(
+        slider(&mut tools.altitude, 1.0..=5000.0)
+            .logarithmic(true)
+            .text("altitude"),
+    );
+    ui.add(slider(&mut tools.inclination, 0.0..=180.0).text("inclination °"));
+    ui.horizontal(|ui| {
+        ui.add(
+            slider(&mut tools.half_size, 0.1..=10.0)
+                .logarithmic(true)
+                .text("half size"),
+        );
+    });
+    ui.add(slider(&mut tools.mass, 0.01..=1000.0).logarithmic(true).text("mass"));
+    ui.horizontal(|ui| {
+        if ui
+            .add_enabled(has_selection, egui::Button::new("🎯 Fire at selected"))
+            .on_hover_text("F: an impactor at the selected body")
+            .clicked()
+        {
+            sent.push(tools.fire());
+        }
+        ui.checkbox(&mut tools.from_camera, "from the camera");
+    });
+    ui.add(
+        slider(&mut tools.fire_speed, 0.1..=100.0)
+            .logarithmic(true)
+            .text("speed"),
+    );
+    ui.add(
+        slider(&mut tools.fire_distance, 1.0..=1000.0)
+            .logarithmic(true)
+            .text("distance"),
+    );
+    ui.horizontal(|ui| {
+        if ui
+            .add_enabled(has_selection, egui::Button::new("💥 Break up selected"))
+            .on_hover_text("B")
+            .clicked()
+        {
+            sent.push(tools.breakup());
+        }
+        if ui
+            .add_enabled(has_selection, egui::Button::new("✖ Remove selected"))
+            .on_hover_text("X or Delete")
+            .clicked()
+        {
+            sent.push(ToolAction::Remove);
+        }
+    });
+    ui.add(
+        slider(&mut tools.fragments, 2..=1000)
+            .logarithmic(true)
+            .text("fragments"),
+    );
+    ui.add(
+        slider(&mut tools.breakup_speed, 0.01..=50.0)
+            .logarithmic(true)
+            .text("speed apart"),
+    );
+    ui.horizontal(|ui| {
+        let target = checkpoints.target(updates);
+        let hover = match target {
+            Some(at) => format!("Backspace: back to update {at}; the events recorded since are dropped"),
+            None => "no checkpoint yet".to_owned(),
+        };
+        if ui
+            .add_enabled(target.is_some(), egui::Button::new("⏪ Rewind"))
+            .on_hover_text(hover)
+            .clicked()
+        {
+            sent.push(ToolAction::Rewind);
+        }
+        ui.small(format!(
+            "{} checkpoints, one every {CHECKPOINT_EVERY} updates",
+            checkpoints.len()
+        ));
+    });
+    sent
 }
 
 /// The scenario: one of `scenarios/`, the built-in one, or any path.

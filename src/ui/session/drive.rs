@@ -1,5 +1,7 @@
 //! Runs the simulation from the frame loop at the chosen updates per second,
-//! applying the live settings first.
+//! applying the live settings first: a change of a live physics setting in
+//! the panel is recorded as a `Set` event (docs/design.md, "Events"), so
+//! that a saved session replays it.
 
 use std::time::{Duration, Instant};
 
@@ -8,8 +10,10 @@ use bevy::prelude::*;
 use super::sandbox_settings::SandboxSettings;
 use super::scene::SandboxState;
 use super::update_clock::{UpdateClock, updates_within_budget};
+use crate::events::record_event;
 use crate::execution::Execution;
 use crate::resources::SimulationSettings;
+use crate::scenario::{Event, Set};
 use crate::systems::{SimulationFault, StageTimings, run_updates};
 use crate::ui::sets::SandboxSystems;
 
@@ -26,20 +30,20 @@ impl Plugin for DrivePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<UpdateClock>().add_systems(
             Update,
-            (apply_live_settings, drive_simulation)
+            (apply_live_settings, drive_simulation, show_set_events)
                 .chain()
                 .in_set(SandboxSystems::Simulate),
         );
     }
 }
 
-/// Applies the live settings (execution, physics switches) to the
-/// simulation resources, changing only what differs.
-fn apply_live_settings(
-    settings: Res<SandboxSettings>,
-    mut execution: ResMut<Execution>,
-    mut physics: ResMut<SimulationSettings>,
-) {
+/// Applies the live settings (execution, stage switches) to the
+/// simulation resources, changing only what differs, and records the live
+/// physics settings the panel changed as a `Set` event at the update the
+/// run is at.
+fn apply_live_settings(world: &mut World) {
+    let settings = world.resource::<SandboxSettings>().clone();
+    let mut execution = world.resource_mut::<Execution>();
     if execution.mode() != settings.mode {
         execution.set_mode(settings.mode);
     }
@@ -51,10 +55,33 @@ fn apply_live_settings(
     {
         warn!("threads: {e}");
     }
+    let physics = world.resource::<SimulationSettings>().clone();
     let mut wanted = physics.clone();
     settings.apply_physics(&mut wanted);
+    if physics == wanted {
+        return;
+    }
+    let update = world.resource::<SimulationFault>().updates;
+    if let Some(set) = Set::between(update, &physics, &wanted) {
+        record_event(world, Event::Set(set));
+    }
+    // The stage switches, which are not events.
+    let mut physics = world.resource_mut::<SimulationSettings>();
     if *physics != wanted {
         *physics = wanted;
+    }
+}
+
+/// After the frame's updates: the panel shows the live physics settings a
+/// `Set` event of the scenario changed (so that it does not take them
+/// back as a change of its own).
+fn show_set_events(physics: Res<SimulationSettings>, mut settings: ResMut<SandboxSettings>) {
+    if physics.is_changed() {
+        let mut shown = settings.clone();
+        shown.adopt_live(&physics);
+        if shown != *settings {
+            *settings = shown;
+        }
     }
 }
 
@@ -156,5 +183,59 @@ mod tests {
         let world = app.world();
         assert_eq!(world.resource::<SimulationFault>().updates, 1);
         assert_eq!(world.resource::<SandboxState>().error.as_ref(), Some(&error));
+    }
+
+    /// A live physics setting changed in the panel is recorded as a `Set`
+    /// at the update the run is at, and applied; a `Set` of the scenario
+    /// shows in the panel and is not taken back.
+    #[test]
+    fn a_live_change_in_the_panel_is_recorded_as_a_set_event() {
+        let scenario = Scenario::parse(
+            "Scenario(bodies: [Body(position: (0, 0, 0))], events: [Set(update: 3, fragment_spread: 0.5)])",
+            "set.ron",
+        )
+        .unwrap();
+        let settings = SandboxSettings::default();
+        let mut app = App::new();
+        app.add_plugins((MinimalPlugins, SimulationPlugins, crate::events::EventsPlugin))
+            .insert_resource(Execution::new(ExecutionMode::Sequential, 1).unwrap())
+            .insert_resource(scenario.settings())
+            .insert_resource(SandboxState::new(scenario.clone(), &settings))
+            .insert_resource(settings)
+            .add_plugins(DrivePlugin);
+        spawn_bodies(app.world_mut(), &scenario.bodies().unwrap());
+        crate::events::install_events(app.world_mut(), &scenario);
+        app.world_mut().resource_mut::<SandboxState>().paused = true;
+        for _ in 0..2 {
+            app.world_mut().resource_mut::<SandboxState>().step_requested = true;
+            app.update();
+        }
+        app.world_mut().resource_mut::<SandboxSettings>().shatter_threshold = 7.5;
+        app.update();
+        let world = app.world();
+        assert_eq!(world.resource::<SimulationSettings>().shatter_threshold, 7.5);
+        let recorded: Vec<_> = world
+            .resource::<crate::events::EventQueue>()
+            .all()
+            .filter(|q| q.place.is_none())
+            .map(|q| q.event.clone())
+            .collect();
+        let [Event::Set(set)] = recorded.as_slice() else {
+            panic!("{recorded:?}")
+        };
+        assert_eq!((set.update, set.keys.as_slice()), (2, ["shatter_threshold"].as_slice()));
+        // The scenario's own Set, at update 3, reaches the panel.
+        for _ in 0..2 {
+            app.world_mut().resource_mut::<SandboxState>().step_requested = true;
+            app.update();
+        }
+        let world = app.world();
+        assert_eq!(world.resource::<SimulationSettings>().fragment_spread, 0.5);
+        assert_eq!(world.resource::<SandboxSettings>().fragment_spread, 0.5);
+        assert_eq!(
+            world.resource::<crate::events::EventQueue>().all().count(),
+            2,
+            "nothing taken back"
+        );
     }
 }

@@ -445,6 +445,21 @@ impl SandboxSettings {
         changed
     }
 
+    /// Takes the running simulation's values of the live physics settings
+    /// (after a `Set` event or a rewind changed them), where they differ.
+    pub fn adopt_live(&mut self, physics: &SimulationSettings) {
+        let mut taken = self.physics_over(physics);
+        taken.take_live(physics);
+        macro_rules! adopt {
+            ($($field:ident => $fix:expr,)*) => {$(
+                if self.$field != taken.$field {
+                    self.$field = taken.$field;
+                }
+            )*};
+        }
+        panel_physics!(adopt);
+    }
+
     /// Takes a freshly loaded scenario's own values of the physics
     /// settings the panel holds.
     pub fn adopt_scenario(&mut self, physics: &SimulationSettings) {

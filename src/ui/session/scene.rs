@@ -7,6 +7,7 @@ use bevy::prelude::*;
 
 use super::sandbox_settings::SandboxSettings;
 use crate::components::{BodyId, BodyState};
+use crate::events::install_events;
 use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{CannotResize, Scenario};
@@ -34,6 +35,13 @@ pub struct SandboxState {
     pub error: Option<String>,
     /// Counts scene builds (so views know the bodies were replaced).
     pub generation: u64,
+    /// Counts tool actions and rewinds: the bodies changed between updates
+    /// (so the drawing does not wait for the next update to show it).
+    pub edits: u64,
+    /// The scenario the running scene was built from, with the settings
+    /// and body count it was built with (what *Save session…* writes, with
+    /// the events).
+    pub started_from: Scenario,
     /// File of the loaded scenario (`None`: built-in).
     pub loaded_path: Option<PathBuf>,
 }
@@ -43,6 +51,7 @@ impl SandboxState {
     /// (which the first frame does).
     pub fn new(scenario: Scenario, settings: &SandboxSettings) -> Self {
         Self {
+            started_from: scenario.clone(),
             scenario,
             first_fragment_id: 0,
             paused: false,
@@ -51,6 +60,7 @@ impl SandboxState {
             built_with: settings.clone(),
             error: None,
             generation: 0,
+            edits: 0,
             loaded_path: settings.scenario.clone(),
         }
     }
@@ -97,13 +107,19 @@ pub fn build_bodies(
     scenario: &Scenario,
     settings: &SandboxSettings,
 ) -> Result<(Vec<BodyState>, SimulationSettings), SceneError> {
+    let scenario = built_scenario(scenario, settings)?;
+    Ok((scenario.bodies()?, scenario.settings()))
+}
+
+/// `scenario` as a restart builds it: with the panel's physics settings
+/// and the chosen body count.
+fn built_scenario(scenario: &Scenario, settings: &SandboxSettings) -> Result<Scenario, SceneError> {
     let mut scenario = scenario.clone();
     scenario.physics = settings.physics_for_restart(&scenario.physics);
     if let Some(count) = settings.body_count {
         scenario = scenario.with_generated(count)?;
     }
-    let bodies = scenario.bodies()?;
-    Ok((bodies, scenario.settings()))
+    Ok(scenario)
 }
 
 /// Reads a newly picked scenario into the state and takes its own seed and
@@ -132,8 +148,12 @@ pub fn restart_scene(world: &mut World) {
     } else {
         Ok(())
     };
-    let built = loaded.and_then(|()| build_bodies(&world.resource::<SandboxState>().scenario, &settings));
-    let (bodies, physics) = match built {
+    let built = loaded.and_then(|()| {
+        let scenario = built_scenario(&world.resource::<SandboxState>().scenario, &settings)?;
+        let bodies = scenario.bodies()?;
+        Ok((scenario, bodies))
+    });
+    let (scenario, bodies) = match built {
         Ok(built) => built,
         Err(e) => {
             warn!("{e}");
@@ -148,7 +168,8 @@ pub fn restart_scene(world: &mut World) {
     // Fresh ids continue from a snapshot's `next_id`, as headless runs do.
     let next = spawn_bodies(world, &bodies).max(world.resource::<SandboxState>().scenario.next_id());
     world.insert_resource(NextBodyId(next));
-    world.insert_resource(physics);
+    world.insert_resource(scenario.settings());
+    install_events(world, &scenario);
     *world.resource_mut::<CollisionStats>() = CollisionStats::default();
     *world.resource_mut::<Absorbed>() = Absorbed::default();
     *world.resource_mut::<GravityInUse>() = GravityInUse::default();
@@ -160,6 +181,7 @@ pub fn restart_scene(world: &mut World) {
     state.built_with = settings;
     state.first_fragment_id = next;
     state.generation += 1;
+    state.started_from = scenario;
     info!("scene built: {} bodies", bodies.len());
 }
 
@@ -228,8 +250,12 @@ mod tests {
     /// A world with what [`restart_scene`] touches, no renderer.
     fn sandbox_world(settings: SandboxSettings) -> World {
         let mut app = App::new();
-        app.add_plugins((MinimalPlugins, crate::systems::SimulationPlugins))
-            .insert_resource(crate::execution::Execution::new(settings.mode, 1).unwrap());
+        app.add_plugins((
+            MinimalPlugins,
+            crate::systems::SimulationPlugins,
+            crate::events::EventsPlugin,
+        ))
+        .insert_resource(crate::execution::Execution::new(settings.mode, 1).unwrap());
         let state = SandboxState::new(Scenario::builtin_default(), &settings);
         app.insert_resource(settings).insert_resource(state);
         std::mem::take(app.world_mut())

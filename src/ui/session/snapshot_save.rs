@@ -1,25 +1,32 @@
 //! "Save scenario…" in the panel: the running state written as a snapshot
 //! scenario (`crate::scenario::write_snapshot`), the same file
-//! `kessler headless --save-scenario` writes. A file that exists already is
-//! never overwritten: the panel says so instead.
+//! `kessler headless --save-scenario` writes, with the events still to
+//! come; and "Save session…": the scenario the scene started from with
+//! every event of the run, the scenario's and those the tools recorded
+//! (`crate::scenario::write_session`), which replays to the window's
+//! states. A file that exists already is never overwritten: the panel says
+//! so instead.
 
 use std::path::PathBuf;
 
 use bevy::prelude::*;
 
 use super::scene::SandboxState;
-use super::update_clock::UpdateClock;
 use crate::components::{BodyState, BodyStateQuery};
+use crate::events::EventQueue;
 use crate::output::{check_new, write_atomically};
 use crate::resources::{NextBodyId, SimulationSettings};
-use crate::scenario::{Snapshot, write_snapshot};
+use crate::scenario::{Snapshot, write_session, write_snapshot};
+use crate::systems::SimulationFault;
 use crate::ui::sets::SandboxSystems;
 
 /// A save the panel asked for, and how the last one went.
 #[derive(Resource, Debug, Default)]
 pub struct SnapshotSave {
-    /// Where to save at the end of this frame.
+    /// Where to save the state at the end of this frame.
     pub requested: Option<PathBuf>,
+    /// Where to save the session at the end of this frame.
+    pub session_requested: Option<PathBuf>,
     /// What happened to the last save, for the panel.
     pub outcome: Option<Result<String, String>>,
 }
@@ -30,30 +37,51 @@ pub struct SnapshotSavePlugin;
 impl Plugin for SnapshotSavePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<SnapshotSave>()
+            .init_resource::<EventQueue>()
+            .init_resource::<SimulationFault>()
             .add_systems(Update, save_snapshot.after(SandboxSystems::Simulate));
     }
 }
 
-/// The components a body is saved from.
+/// Saves the state, or the session, where the panel asked.
 fn save_snapshot(
     mut save: ResMut<SnapshotSave>,
     state: Res<SandboxState>,
-    clock: Res<UpdateClock>,
+    fault: Res<SimulationFault>,
     physics: Res<SimulationSettings>,
     next_id: Res<NextBodyId>,
+    queue: Res<EventQueue>,
     bodies: Query<BodyStateQuery>,
 ) {
+    if let Some(path) = save.session_requested.take() {
+        let session = queue.session(&state.started_from);
+        let outcome = check_new("save", &path, "choose another name: saves never overwrite")
+            .map_err(|e| e.to_string())
+            .and_then(|()| {
+                write_atomically(&path, |w| write_session(&session, fault.updates, w)).map_err(|e| e.to_string())
+            })
+            .map(|()| {
+                format!(
+                    "saved the session ({} events) to {}",
+                    session.events.len(),
+                    path.display()
+                )
+            });
+        save.outcome = Some(outcome);
+    }
     let Some(path) = save.requested.take() else {
         return;
     };
+    let pending = queue.pending(fault.updates);
     let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
     states.sort_unstable_by_key(|b| b.id);
     let snapshot = Snapshot {
         name: &state.scenario.name,
-        updates: clock.updates_total,
+        updates: fault.updates,
         settings: &physics,
         bodies: &states,
         next_id: next_id.0,
+        events: &pending,
     };
     let outcome = check_new("save", &path, "choose another name: saves never overwrite")
         .map_err(|e| e.to_string())
@@ -76,7 +104,6 @@ mod tests {
         let mut app = App::new();
         app.add_plugins(MinimalPlugins)
             .insert_resource(SandboxState::new(scenario.clone(), &SandboxSettings::default()))
-            .insert_resource(UpdateClock::default())
             .insert_resource(scenario.settings())
             .add_plugins(SnapshotSavePlugin);
         spawn_bodies(app.world_mut(), &scenario.bodies().unwrap());

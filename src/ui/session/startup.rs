@@ -98,6 +98,9 @@ fn check_outputs_of(options: &WindowOptions) -> Result<(), WindowError> {
     if let Some(scenario) = &options.scenario {
         inputs.push(("the scenario", scenario));
     }
+    if let Some(actions) = &options.actions {
+        inputs.push(("the actions", actions));
+    }
     inputs.push(("the split calibration", &calibration));
     // Saved through a link if it is one, so checked against the inputs
     // only.
@@ -118,6 +121,9 @@ fn check_outputs_of(options: &WindowOptions) -> Result<(), WindowError> {
             path,
             "reports never overwrite, choose another name",
         ));
+    }
+    if let Some(path) = &options.dump {
+        outputs.push(Output::replacing("--dump", path));
     }
     check_outputs(&outputs, &inputs)?;
     Ok(())

@@ -37,6 +37,11 @@ pub struct WindowOptions {
     /// Where a scripted run writes what it measured (`key=value` lines, a
     /// new file), for benchmark `Render` runs.
     pub frame_report: Option<PathBuf>,
+    /// Where a scripted run writes the state at its close (`headless
+    /// --dump`'s format).
+    pub dump: Option<PathBuf>,
+    /// A file of tool actions to take at given frames.
+    pub actions: Option<PathBuf>,
 }
 
 /// Why the window could not run.
