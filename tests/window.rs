@@ -608,7 +608,10 @@ fn a_session_of_tool_actions_replays_headless_to_the_windows_state() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let window_state = std::fs::read_to_string(&dump).unwrap();
     // The planet, the ring, the launch, the breakup's 6 for 1, less one removed.
-    assert!(window_state.lines().count() >= 1 + 301 + 24 + 5 - 1, "{updates} updates");
+    assert!(
+        window_state.lines().count() >= 1 + 301 + 24 + 5 - 1,
+        "{updates} updates"
+    );
     assert_eq!(
         std::fs::read_to_string(&replay).unwrap(),
         window_state,
@@ -616,4 +619,36 @@ fn a_session_of_tool_actions_replays_headless_to_the_windows_state() {
         session.display()
     );
     assert!(shot.exists());
+}
+
+/// A tool's effect shows in the next drawn frame, even while paused: a
+/// ring launched in the frame before the screenshot changes the picture
+/// of the same paused scene without it.
+#[test]
+fn a_launched_ring_shows_in_the_next_frame_while_paused() {
+    if !window_available("a_launched_ring_shows_in_the_next_frame_while_paused") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let actions = dir.path().join("launch.ron");
+    std::fs::write(
+        &actions,
+        "[(frame: 11, action: Launch(altitude: 900, inclination: 70, count: 300, half_size: 4, mass: 1))]",
+    )
+    .unwrap();
+    let (plain, ..) = run_window_frames(dir.path(), "plain", "()", 12, &["--paused"]);
+    let (launched, stdout, ..) = run_window_frames(
+        dir.path(),
+        "launched",
+        "()",
+        12,
+        &["--paused", "--actions", actions.to_str().unwrap()],
+    );
+    assert!(stdout.contains("0 updates"), "paused: {stdout}");
+    let (plain, launched) = (Picture::load(&plain), Picture::load(&launched));
+    let changed = launched
+        .scene_pixels()
+        .filter(|&(x, y)| differs(plain.pixel(x, y), launched.pixel(x, y)))
+        .count();
+    assert!(changed > 300, "only {changed} pixels changed");
 }
