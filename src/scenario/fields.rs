@@ -12,8 +12,8 @@ use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use super::checked;
+use super::contents::Scenario;
 use super::events::EventList;
-use super::format::Scenario;
 use crate::input::FieldName;
 use crate::resources::{SETTINGS, unknown_setting};
 

@@ -7,7 +7,8 @@ use bevy::math::DVec3;
 use ron::extensions::Extensions;
 
 use super::checked::{MAX_BODIES, MAX_ID};
-use super::format::{Body, Generator, Scenario, Shape, Shell};
+use super::contents::Scenario;
+use super::format::{Body, Generator, Shape, Shell};
 use super::generators::{self, Obstacles};
 use super::start::check_start;
 use crate::components::BodyState;

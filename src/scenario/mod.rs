@@ -3,6 +3,7 @@
 
 mod builtin;
 pub mod checked;
+mod contents;
 mod event_checks;
 pub mod events;
 mod fields;
@@ -15,7 +16,8 @@ mod start;
 
 pub use builtin::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, THESIS_SCENARIO, THESIS_SCENARIO_NAME};
 pub use checked::{MAX_BODIES, MAX_FRAGMENTS};
+pub use contents::Scenario;
 pub use events::{Breakup, Event, Fire, Remove, Set, Spawn};
-pub use format::{Body, Cloud, Generator, Scenario, Shape, Shell, Template};
+pub use format::{Body, Cloud, Generator, Shape, Shell, Template};
 pub use scale::CannotResize;
 pub use snapshot::{Snapshot, beyond_a_scenario, scenario_text, write_session, write_snapshot};

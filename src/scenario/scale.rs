@@ -1,6 +1,7 @@
 //! Resizing a scenario to a body count (for benchmarks and the window).
 
-use super::format::{Generator, Scenario};
+use super::contents::Scenario;
+use super::format::Generator;
 
 /// A scenario that cannot be resized to the count asked for: it has no
 /// generators, or its generated bodies would then be numbered past the

@@ -9,8 +9,9 @@ use std::io::{self, Write};
 use ron::ser::PrettyConfig;
 
 use super::checked::MAX_STATE;
+use super::contents::Scenario;
 use super::events::Event;
-use super::format::{Body, Scenario};
+use super::format::Body;
 use crate::components::BodyState;
 use crate::resources::SimulationSettings;
 use crate::state_hash::StateHash;
