@@ -50,6 +50,9 @@ pub struct EventLog {
     pub skipped: u64,
     /// The first skipped event and why, said once.
     pub first_skipped: Option<String>,
+    /// The last skipped event and why (the window says it when a tool's
+    /// event is skipped).
+    pub last_skipped: Option<String>,
 }
 
 impl EventQueue {
@@ -147,9 +150,11 @@ pub fn apply_due_events(world: &mut World) {
             Ok(()) => log.applied += 1,
             Err(why) => {
                 log.skipped += 1;
+                let message = format!("{} was skipped: {why}", next.described());
                 if log.first_skipped.is_none() {
-                    log.first_skipped = Some(format!("{} was skipped: {why}", next.described()));
+                    log.first_skipped = Some(message.clone());
                 }
+                log.last_skipped = Some(message);
             }
         }
     }

@@ -112,6 +112,9 @@ fn panel(
                 let mut tools = tool_settings.clone();
                 let has_selection = selection.entity.is_some();
                 let sent = tools_section(ui, &mut tools, has_selection, &checkpoints, fault.updates);
+                if let Some(problem) = &state.tool_problem {
+                    ui.colored_label(egui::Color32::from_rgb(255, 200, 90), problem);
+                }
                 if tools != *tool_settings {
                     *tool_settings = tools;
                 }

@@ -33,6 +33,9 @@ pub struct SandboxState {
     pub built_with: SandboxSettings,
     /// Last problem (a scenario that would not load), shown in the panel.
     pub error: Option<String>,
+    /// Why the last tool action did nothing (no selection, its event
+    /// skipped), shown under the tools; `None` after one that worked.
+    pub tool_problem: Option<String>,
     /// Counts scene builds (so views know the bodies were replaced).
     pub generation: u64,
     /// Counts tool actions and rewinds: the bodies changed between updates
@@ -59,6 +62,7 @@ impl SandboxState {
             restart_requested: true,
             built_with: settings.clone(),
             error: None,
+            tool_problem: None,
             generation: 0,
             edits: 0,
             loaded_path: settings.scenario.clone(),

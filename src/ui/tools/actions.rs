@@ -13,7 +13,7 @@ use serde::Deserialize;
 
 use super::rewind::rewind;
 use crate::components::{BodyId, BodyState, BodyStateQuery, GravityRole, Interacts};
-use crate::events::record_event;
+use crate::events::{EventLog, record_event};
 use crate::maths;
 use crate::resources::SimulationSettings;
 use crate::scenario::{Body, Breakup, Event, Fire, Remove, Shape, Spawn, Template};
@@ -74,10 +74,11 @@ pub enum ToolAction {
 pub fn apply_tool_actions(world: &mut World) {
     let actions: Vec<ToolAction> = world.resource_mut::<Messages<ToolAction>>().drain().collect();
     for action in actions {
-        if let Err(why) = apply_action(world, &action) {
+        let outcome = apply_action(world, &action);
+        if let Err(why) = &outcome {
             warn!("{why}");
-            world.resource_mut::<SandboxState>().error = Some(why);
         }
+        world.resource_mut::<SandboxState>().tool_problem = outcome.err();
     }
 }
 
@@ -154,8 +155,13 @@ fn apply_action(world: &mut World, action: &ToolAction) -> Result<(), String> {
             return Ok(());
         }
     };
+    let skipped = world.resource::<EventLog>().skipped;
     record_event(world, event);
     world.resource_mut::<SandboxState>().edits += 1;
+    let log = world.resource::<EventLog>();
+    if log.skipped > skipped {
+        return Err(log.last_skipped.clone().unwrap_or_default());
+    }
     Ok(())
 }
 

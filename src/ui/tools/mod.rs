@@ -54,7 +54,7 @@ impl Default for ToolSettings {
             fire_speed: 8.0,
             fire_distance: 40.0,
             from_camera: true,
-            fragments: 50,
+            fragments: 8,
             breakup_speed: 1.0,
         }
     }

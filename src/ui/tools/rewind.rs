@@ -152,6 +152,7 @@ pub fn rewind(world: &mut World) -> Result<(), String> {
     world.resource_mut::<SandboxSettings>().adopt_live(&checkpoint.physics);
     let mut state = world.resource_mut::<SandboxState>();
     state.edits += 1;
+    // A run that stopped at a fault runs again from the checkpoint.
     state.error = None;
     info!("rewound to update {}", checkpoint.updates);
     Ok(())
