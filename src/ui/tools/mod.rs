@@ -105,11 +105,14 @@ impl Plugin for ToolsPlugin {
                     .chain()
                     .in_set(SandboxSystems::Tools),
             )
+            // Before the frame's tool actions: a checkpoint at update U
+            // holds the state before every event of U, the recorded ones
+            // included, which a rewind to it drops.
             .add_systems(
                 Update,
                 take_checkpoints
-                    .after(SandboxSystems::Simulate)
-                    .before(SandboxSystems::View),
+                    .after(SandboxSystems::BuildScene)
+                    .before(SandboxSystems::Tools),
             )
             .add_systems(Last, dump_at_close.run_if(resource_exists::<DumpAtClose>));
     }

@@ -83,7 +83,8 @@ impl Checkpoints {
 }
 
 /// Takes a checkpoint at the start of a scene and every
-/// [`CHECKPOINT_EVERY`] updates (after the frame's updates).
+/// [`CHECKPOINT_EVERY`] updates (at the start of a frame, before its tool
+/// actions and updates).
 pub fn take_checkpoints(world: &mut World) {
     let generation = world.resource::<SandboxState>().generation;
     let updates = world.resource::<SimulationFault>().updates;
