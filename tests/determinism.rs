@@ -3,7 +3,7 @@
 
 use kessler::Simulation;
 use kessler::components::BodyState;
-use kessler::execution::{Execution, ExecutionMode, SplitPolicy};
+use kessler::execution::{Execution, ExecutionMode, SplitPolicy, WorkerPool};
 use kessler::scenario::Scenario;
 
 fn run(text: &str, mode: ExecutionMode, threads: usize, updates: u64) -> Vec<BodyState> {
@@ -122,12 +122,22 @@ fn collapse_is_bit_identical(gravity: &str, count: usize) -> usize {
     };
     let (sequential, shatters) = run(ExecutionMode::Sequential, 1);
     assert!(shatters > 50, "only {shatters} shatters");
+    let ids = |b: &[BodyState]| b.iter().map(|b| b.id).collect::<Vec<_>>();
     for threads in [2, 3] {
         let (parallel, _) = run(ExecutionMode::Parallel, threads);
-        let ids = |b: &[BodyState]| b.iter().map(|b| b.id).collect::<Vec<_>>();
         assert_eq!(ids(&sequential), ids(&parallel), "{threads} threads: other fragments");
         assert!(bits(&sequential) == bits(&parallel), "{threads} threads differ");
     }
+    // The same kernels on Bevy's ComputeTaskPool, in one-item chunks.
+    let execution = Execution::new(ExecutionMode::Parallel, 2)
+        .unwrap()
+        .fine_grained()
+        .with_pool(WorkerPool::Bevy);
+    let mut sim = Simulation::from_scenario(&scenario, execution).unwrap();
+    sim.step(40);
+    let bevy = sim.snapshot();
+    assert_eq!(ids(&sequential), ids(&bevy), "Bevy's pool: other fragments");
+    assert!(bits(&sequential) == bits(&bevy), "Bevy's pool differs");
     sequential.len()
 }
 

@@ -162,6 +162,28 @@ pub struct ExecutionArgs {
     /// `always`, or a body count.
     #[arg(long, value_name = "auto|always|N", default_value_t = SplitPolicy::Auto, allow_negative_numbers = true)]
     pub split: SplitPolicy,
+    /// Which pool runs the parallel steps: Kessler's own, or Bevy's
+    /// `ComputeTaskPool` (the same results).
+    #[arg(long, value_enum, default_value_t = PoolArg::Kessler)]
+    pub pool: PoolArg,
+}
+
+/// `--pool` on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PoolArg {
+    /// Kessler's own worker pool.
+    Kessler,
+    /// Bevy's `ComputeTaskPool`.
+    Bevy,
+}
+
+impl From<PoolArg> for crate::execution::WorkerPool {
+    fn from(pool: PoolArg) -> Self {
+        match pool {
+            PoolArg::Kessler => Self::Kessler,
+            PoolArg::Bevy => Self::Bevy,
+        }
+    }
 }
 
 /// `--mode` on the command line.

@@ -9,7 +9,7 @@ use super::{ExecutionArgs, Failure, HeadlessArgs};
 use crate::Simulation;
 use crate::calibration::machine_auto_split;
 use crate::dump;
-use crate::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
+use crate::execution::{Execution, ExecutionMode, SplitPolicy, WorkerPool, available_threads};
 use crate::output::{Output, WriteError, check_outputs, commit_all, printable, stage};
 use crate::resources::MemoryBudget;
 use crate::scenario::{Scenario, Snapshot, beyond_a_scenario, write_snapshot};
@@ -23,7 +23,10 @@ use crate::user_files::default_calibration_path;
 pub fn execution(args: &ExecutionArgs) -> Result<Execution, Failure> {
     let threads = args.threads.unwrap_or_else(available_threads);
     let execution = Execution::new(args.mode.into(), threads).map_err(|e| Failure::from(e).context("--threads"))?;
-    Ok(execution.with_split(args.split).with_auto_split(machine_auto_split()))
+    Ok(execution
+        .with_split(args.split)
+        .with_auto_split(machine_auto_split())
+        .with_pool(args.pool.into()))
 }
 
 /// Says on stderr where the scenario's `max_bodies` would not fit in the
@@ -90,6 +93,10 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         (ExecutionMode::Sequential, _) => String::new(),
         (_, SplitPolicy::Auto) => format!(", split auto ({})", execution.auto_split().origin()),
         (_, split) => format!(", split {split}"),
+    };
+    let split = match (mode, execution.pool()) {
+        (ExecutionMode::Parallel, WorkerPool::Bevy) => format!("{split}, on Bevy's ComputeTaskPool"),
+        _ => split,
     };
     let mut sim = Simulation::from_scenario(scenario, execution)?;
     let bodies_start = sim.body_count();

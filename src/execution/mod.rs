@@ -46,17 +46,21 @@
 //! waking a sleeping thread costs tens of microseconds. After a step, `keep_warm.rs` keeps the idle workers polling
 //! for a millisecond, so the next step of the same update finds them awake.
 //! Why a pool of our own rather than Bevy's `ComputeTaskPool` or `par_iter`:
-//! see ARCHITECTURE.md, "Parallel execution".
+//! see ARCHITECTURE.md, "Parallel execution"; `--pool bevy` runs the same
+//! chunks on Bevy's pool (`bevy_pool.rs`) to measure the difference.
 
+mod bevy_pool;
 mod claims;
 mod keep_warm;
 mod mode;
 mod policy;
 mod pool;
 mod split;
+mod worker_pool;
 
 pub use keep_warm::WARM_FOR;
 pub use mode::ExecutionMode;
 pub use policy::{AutoSplit, BadSplitPolicy, FALLBACK_SPLIT_FROM, SplitPolicy};
 pub use pool::{Execution, ExecutionError, MAX_THREADS, StageExecution, available_threads};
 pub use split::Split;
+pub use worker_pool::WorkerPool;

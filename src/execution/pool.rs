@@ -7,9 +7,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy::prelude::*;
 
+use super::bevy_pool::{compute_pool, compute_threads, map_on_bevy};
 use super::claims::{CHUNKS_PER_THREAD, Claims, UNEVEN_CHUNKS_PER_THREAD};
 use super::keep_warm::KeepWarm;
-use super::{AutoSplit, ExecutionMode, Split, SplitPolicy};
+use super::{AutoSplit, ExecutionMode, Split, SplitPolicy, WorkerPool};
 
 /// Most worker threads a pool may have.
 pub const MAX_THREADS: usize = 256;
@@ -24,6 +25,8 @@ pub fn available_threads() -> usize {
 pub struct Execution {
     mode: ExecutionMode,
     pool: Arc<rayon::ThreadPool>,
+    /// Which pool the parallel steps run on.
+    worker_pool: WorkerPool,
     /// From which body count a stage splits its work.
     split: SplitPolicy,
     /// The per-stage counts of [`SplitPolicy::Auto`].
@@ -41,6 +44,7 @@ impl fmt::Debug for Execution {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Execution")
             .field("mode", &self.mode)
+            .field("pool", &self.worker_pool)
             .field("threads", &self.threads())
             .field("split", &self.split)
             .field("keep_warm", &self.warm.is_some())
@@ -71,6 +75,7 @@ impl Execution {
         Ok(Self {
             mode,
             pool: Arc::new(build_pool(threads)?),
+            worker_pool: WorkerPool::Kessler,
             split: SplitPolicy::default(),
             auto: Arc::default(),
             fine_grained: false,
@@ -91,6 +96,26 @@ impl Execution {
         self.fine_grained = true;
         self.split = SplitPolicy::Always;
         self
+    }
+
+    /// The same execution on `pool`.
+    pub fn with_pool(mut self, pool: WorkerPool) -> Self {
+        self.set_pool(pool);
+        self
+    }
+
+    /// Which pool the parallel steps run on.
+    pub fn pool(&self) -> WorkerPool {
+        self.worker_pool
+    }
+
+    /// Switches the pool; takes effect at the next step. Bevy's is made
+    /// (with this execution's thread count) if it does not exist yet.
+    pub fn set_pool(&mut self, pool: WorkerPool) {
+        if pool == WorkerPool::Bevy {
+            compute_pool(self.threads());
+        }
+        self.worker_pool = pool;
     }
 
     /// The same execution with split policy `split`.
@@ -161,11 +186,13 @@ impl Execution {
         self.pool.current_num_threads()
     }
 
-    /// Threads a step really runs on: 1 in sequential mode.
+    /// Threads a step really runs on: 1 in sequential mode; on Bevy's
+    /// pool, the threads it was made with.
     pub fn threads_used(&self) -> usize {
-        match self.mode {
-            ExecutionMode::Sequential => 1,
-            ExecutionMode::Parallel => self.threads(),
+        match (self.mode, self.worker_pool) {
+            (ExecutionMode::Sequential, _) => 1,
+            (ExecutionMode::Parallel, WorkerPool::Kessler) => self.threads(),
+            (ExecutionMode::Parallel, WorkerPool::Bevy) => compute_threads(self.threads()),
         }
     }
 
@@ -189,7 +216,9 @@ impl Execution {
     /// worker for the update would only cost time. Either way the results
     /// are the same.
     pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
-        let use_pool = self.mode == ExecutionMode::Parallel && self.split_recently.swap(false, Ordering::Relaxed);
+        let use_pool = self.mode == ExecutionMode::Parallel
+            && self.worker_pool == WorkerPool::Kessler
+            && self.split_recently.swap(false, Ordering::Relaxed);
         if use_pool { self.pool.install(f) } else { f() }
     }
 
@@ -212,6 +241,9 @@ impl Execution {
         } else {
             len.div_ceil(self.threads() * chunks_per_thread)
         };
+        if self.worker_pool == WorkerPool::Bevy {
+            return map_on_bevy(data, chunk, self.threads(), &kernel);
+        }
         let claims = Claims::new(data, chunk, self.threads());
         self.pool.install(|| claims.run(&kernel));
         if let Some(warm) = &self.warm {
@@ -408,6 +440,27 @@ mod tests {
             always(e).map_chunks(0..100_000, |r: Range<usize>| r.map(|i| i as u64).sum())
         };
         assert_eq!(sums(&warm), sums(&cold));
+    }
+
+    /// Bevy's compute pool gives the very chunks and results Kessler's
+    /// gives, in order.
+    #[test]
+    fn bevy_s_pool_gives_the_same_chunks_in_the_same_order() {
+        let ours = parallel(2);
+        let bevy = parallel(2).with_pool(WorkerPool::Bevy);
+        for len in [0, 1, 3, 10_007] {
+            let chunks = |e: &Execution| always(e).map_chunks(0..len, |r: Range<usize>| r);
+            assert_eq!(chunks(&bevy), chunks(&ours), "{len} items");
+        }
+        let uneven = always(&bevy).map_chunks(0..64, |r: Range<usize>| {
+            std::thread::sleep(std::time::Duration::from_micros(300 * (8 - r.start as u64 / 8)));
+            r.start
+        });
+        assert_eq!(uneven, (0..64).step_by(8).collect::<Vec<_>>());
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            always(&bevy).for_chunks(0..800, |r: Range<usize>| assert!(r.start != 300, "one chunk"))
+        }));
+        assert!(outcome.is_err(), "a chunk's panic was lost");
     }
 
     #[test]
