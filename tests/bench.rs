@@ -160,9 +160,10 @@ fn writes_results_passes_overhead_machine_and_plot() {
             .starts_with("bodies,stage,threads,with_overhead_us,without_overhead_us,overhead_us,overhead_percent\n")
     );
     // The header, the whole update and each stage at 50 bodies (whole
-    // against split on one thread), then the bare step on 1 and 2 threads.
+    // against split on one thread), then the bare step on 1 and 2 threads
+    // of Kessler's pool and on Bevy's.
     let stages = kessler::systems::STAGES;
-    assert_eq!(overhead.lines().count(), 1 + 1 + stages.len() + 2, "{overhead}");
+    assert_eq!(overhead.lines().count(), 1 + 1 + stages.len() + 3, "{overhead}");
     assert!(overhead.contains("\n50,update,1,"), "{overhead}");
     for stage in stages {
         assert!(overhead.contains(&format!("\n50,{},1,", stage.name)), "{overhead}");
@@ -175,6 +176,12 @@ fn writes_results_passes_overhead_machine_and_plot() {
         let us: Vec<f64> = row.split(',').skip(3).map(|v| v.parse().unwrap()).collect();
         assert!(us[0] > 0.0 && us[1] >= 0.0, "{row}");
     }
+    let bevy = overhead
+        .lines()
+        .find(|l| l.starts_with("0,empty_step_bevy,"))
+        .unwrap_or_else(|| panic!("no empty step on Bevy's pool: {overhead}"));
+    let us: Vec<f64> = bevy.split(',').skip(3).map(|v| v.parse().unwrap()).collect();
+    assert!(us[0] > 0.0 && us[1] >= 0.0, "{bevy}");
     let passes = std::fs::read_to_string(dir.path().join("tiny-results-passes.csv")).unwrap();
     assert!(passes.starts_with("pass,run,bodies_start,"), "{passes}");
     assert_eq!(passes.lines().count(), 4, "{passes}");

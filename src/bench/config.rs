@@ -8,7 +8,7 @@ use serde::{Deserialize, Deserializer};
 
 use crate::WINDOW_BUILD;
 use crate::draw_method::DrawMethod;
-use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy};
+use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool};
 use crate::input::{InputError, body_count, load_ron, read, whole_between};
 use crate::resources as physics;
 use crate::scenario::{MAX_BODIES, Scenario};
@@ -87,6 +87,7 @@ impl ThreadsRun {
             threads,
             stages: Stages::default(),
             split: (mode == ExecutionMode::Parallel).then_some(self.split),
+            pool: WorkerPool::Kessler,
             seed: None,
             shatter_fragments: None,
             shatter_threshold: None,
@@ -127,6 +128,10 @@ pub struct Run {
     /// default: `--split`, else `Auto`.
     #[serde(default, deserialize_with = "split")]
     pub split: Option<SplitPolicy>,
+    /// Which pool runs the parallel steps: `Kessler` (default, its own)
+    /// or `Bevy` (Bevy's `ComputeTaskPool`); the same results.
+    #[serde(default)]
+    pub pool: WorkerPool,
     /// Seed of the generators and fragments (default: the scenario's).
     #[serde(default, deserialize_with = "seed")]
     pub seed: Option<u64>,

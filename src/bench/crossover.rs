@@ -13,7 +13,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use super::report::times_by_stage;
 use super::run::RunResult;
-use crate::execution::{ExecutionMode, SplitPolicy};
+use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
 
 /// The crossover of one stage (or `update`) on one thread count.
 #[derive(Clone, Debug, PartialEq)]
@@ -107,7 +107,9 @@ impl Wins {
 /// `wins` says. Empty without a sequential and an `Always` run at the same
 /// body count.
 pub fn crossovers(passes: &[Vec<RunResult>], wins: Wins) -> Vec<Crossover> {
-    let is_always = |r: &RunResult| r.mode == ExecutionMode::Parallel && r.split == SplitPolicy::Always;
+    let is_always = |r: &RunResult| {
+        r.mode == ExecutionMode::Parallel && r.split == SplitPolicy::Always && r.pool == WorkerPool::Kessler
+    };
     let sequential = series(passes, |r| r.mode == ExecutionMode::Sequential);
     let threads: BTreeSet<usize> = passes
         .iter()
@@ -125,7 +127,10 @@ pub fn crossovers(passes: &[Vec<RunResult>], wins: Wins) -> Vec<Crossover> {
     for threads in threads {
         let always = series(passes, |r| is_always(r) && r.threads == threads);
         let auto = series(passes, |r| {
-            r.mode == ExecutionMode::Parallel && r.split == SplitPolicy::Auto && r.threads == threads
+            r.mode == ExecutionMode::Parallel
+                && r.split == SplitPolicy::Auto
+                && r.threads == threads
+                && r.pool == WorkerPool::Kessler
         });
         let counts: Vec<u64> = always.keys().filter(|n| sequential.contains_key(n)).copied().collect();
         if counts.is_empty() {
@@ -179,6 +184,7 @@ mod tests {
             mode,
             threads: if mode == ExecutionMode::Sequential { 1 } else { 2 },
             split,
+            pool: WorkerPool::Kessler,
             update_ns,
             stage_ns: [update_ns / STAGE_COUNT as f64; STAGE_COUNT],
         }

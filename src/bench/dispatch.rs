@@ -5,7 +5,7 @@ use std::hint::black_box;
 use std::ops::Range;
 use std::time::Instant;
 
-use crate::execution::{Execution, ExecutionError, ExecutionMode, SplitPolicy};
+use crate::execution::{Execution, ExecutionError, ExecutionMode, SplitPolicy, WorkerPool};
 
 /// Steps per timed batch.
 const BATCH: u32 = 500;
@@ -39,9 +39,12 @@ fn step_ns(execution: &Execution, items: usize) -> f64 {
 }
 
 /// `(split, whole)`: the time of one step of the near-empty kernel split
-/// into chunks on a pool of `threads` threads, and called whole, in ns.
-pub fn empty_step_ns(threads: usize) -> Result<(f64, f64), ExecutionError> {
-    let split = Execution::new(ExecutionMode::Parallel, threads)?.with_split(SplitPolicy::Always);
+/// into chunks on `pool` with `threads` threads (Bevy's: the threads it
+/// has, [`Execution::threads_used`]), and called whole, in ns.
+pub fn empty_step_ns(threads: usize, pool: WorkerPool) -> Result<(f64, f64), ExecutionError> {
+    let split = Execution::new(ExecutionMode::Parallel, threads)?
+        .with_split(SplitPolicy::Always)
+        .with_pool(pool);
     let whole = Execution::new(ExecutionMode::Sequential, 1)?;
     // A few chunks per thread, as a stage would be cut.
     let items = 4 * threads;

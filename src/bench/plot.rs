@@ -20,7 +20,7 @@ use plotters::prelude::*;
 
 use super::crossover::Crossover;
 use super::run::RunResult;
-use crate::execution::{ExecutionMode, SplitPolicy};
+use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
 use crate::output::{FONT, Figure, Labels, PLOT_SIZE, PlotError, figure_png, figure_svg, grouped, page};
 use crate::systems::STAGES;
 
@@ -148,7 +148,10 @@ fn decades(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
 type Setting = (ExecutionMode, usize, Option<String>);
 
 fn setting_of(r: &RunResult) -> Setting {
-    let split = (r.mode == ExecutionMode::Parallel).then(|| r.split.to_string());
+    let split = (r.mode == ExecutionMode::Parallel).then(|| match r.pool {
+        WorkerPool::Kessler => r.split.to_string(),
+        WorkerPool::Bevy => format!("{}, Bevy's pool", r.split),
+    });
     (r.mode, r.threads, split)
 }
 
@@ -309,6 +312,7 @@ mod tests {
             mode,
             threads,
             split: SplitPolicy::Always,
+            pool: WorkerPool::Kessler,
             update_ns: ns,
             stage_ns,
         }

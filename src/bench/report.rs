@@ -5,7 +5,7 @@
 use std::io;
 
 use super::run::RunResult;
-use crate::execution::{ExecutionMode, SplitPolicy};
+use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
 use crate::output::{Cells, CsvRow};
 use crate::systems::STAGES;
 
@@ -164,6 +164,7 @@ pub fn overhead_rows(results: &[RunResult]) -> Vec<OverheadRow> {
     for seq in results.iter().filter(|r| r.mode == ExecutionMode::Sequential) {
         let Some(split) = results.iter().find(|r| {
             r.mode == ExecutionMode::Parallel
+                && r.pool == WorkerPool::Kessler
                 && r.threads == 1
                 && r.split == SplitPolicy::Always
                 && r.bodies == seq.bodies
@@ -177,11 +178,16 @@ pub fn overhead_rows(results: &[RunResult]) -> Vec<OverheadRow> {
     rows
 }
 
-/// The bare cost of one parallel step on `threads` threads: a near-empty
-/// kernel split into chunks (`with_ns`) against the same kernel called
-/// whole (`without_ns`), per step.
-pub fn empty_step_row(threads: usize, with_ns: f64, without_ns: f64) -> OverheadRow {
-    overhead_row(0, "empty_step", threads, with_ns, without_ns)
+/// The bare cost of one parallel step on `threads` threads of `pool`: a
+/// near-empty kernel split into chunks (`with_ns`) against the same kernel
+/// called whole (`without_ns`), per step; `empty_step` on Kessler's pool,
+/// `empty_step_bevy` on Bevy's.
+pub fn empty_step_row(threads: usize, pool: WorkerPool, with_ns: f64, without_ns: f64) -> OverheadRow {
+    let stage = match pool {
+        WorkerPool::Kessler => "empty_step",
+        WorkerPool::Bevy => "empty_step_bevy",
+    };
+    overhead_row(0, stage, threads, with_ns, without_ns)
 }
 
 #[cfg(test)]
@@ -200,6 +206,7 @@ mod tests {
             mode,
             threads,
             split,
+            pool: WorkerPool::Kessler,
             update_ns: ns,
             stage_ns: [ns / 8.0; STAGE_COUNT],
         }
@@ -265,8 +272,12 @@ mod tests {
         assert_eq!(rows[0], "100,update,1,1.100,1.000,0.100,10.0");
         assert!(rows[1].starts_with("100,gravity,1,"), "{}", rows[1]);
         assert_eq!(
-            line(&empty_step_row(2, 3500.0, 500.0)).unwrap(),
+            line(&empty_step_row(2, WorkerPool::Kessler, 3500.0, 500.0)).unwrap(),
             "0,empty_step,2,3.500,0.500,3.000,600.0"
+        );
+        assert_eq!(
+            line(&empty_step_row(2, WorkerPool::Bevy, 9000.0, 500.0)).unwrap(),
+            "0,empty_step_bevy,2,9.000,0.500,8.500,1700.0"
         );
     }
 }

@@ -2,7 +2,9 @@
 
 use super::config::Run;
 use crate::Simulation;
-use crate::execution::{AutoSplit, Execution, ExecutionError, ExecutionMode, SplitPolicy, available_threads};
+use crate::execution::{
+    AutoSplit, Execution, ExecutionError, ExecutionMode, SplitPolicy, WorkerPool, available_threads,
+};
 use crate::input::InputError;
 use crate::scenario::Scenario;
 use crate::systems::{STAGE_COUNT, SimulationSystems};
@@ -26,6 +28,8 @@ pub struct RunResult {
     pub threads: usize,
     /// From which body count stages split (meaningless in sequential mode).
     pub split: SplitPolicy,
+    /// Which pool ran the parallel steps.
+    pub pool: WorkerPool,
     /// Mean time of a whole update.
     pub update_ns: f64,
     /// Mean time of each stage, indexed by stage (0 for a stage that was
@@ -79,7 +83,8 @@ pub fn measure(
     let split = run.split.unwrap_or(defaults.split);
     let execution = Execution::new(run.mode, threads)?
         .with_split(split)
-        .with_auto_split(defaults.auto.clone());
+        .with_auto_split(defaults.auto.clone())
+        .with_pool(run.pool);
     let threads = execution.threads_used();
     let mut sim = Simulation::from_scenario(scenario, execution)?;
     {
@@ -106,6 +111,7 @@ pub fn measure(
         mode: run.mode,
         threads,
         split,
+        pool: run.pool,
         update_ns: timings.update.mean_ns,
         // A stage that was off ran no samples: its mean stays 0.
         stage_ns: SimulationSystems::ALL.map(|stage| timings.stage(stage).mean_ns),
@@ -137,6 +143,7 @@ mod tests {
             mode: ExecutionMode::Parallel,
             threads: 2,
             split: SplitPolicy::Auto,
+            pool: WorkerPool::Kessler,
             update_ns,
             stage_ns,
         }

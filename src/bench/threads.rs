@@ -8,7 +8,7 @@ use std::io;
 use super::config::ThreadsRun;
 use super::report::times_by_stage;
 use super::run::RunResult;
-use crate::execution::ExecutionMode;
+use crate::execution::{ExecutionMode, WorkerPool};
 use crate::output::{Cells, CsvRow};
 use crate::systems::STAGES;
 
@@ -53,7 +53,7 @@ pub fn thread_rows(sweeps: &[ThreadsRun], results: &[RunResult]) -> Vec<ThreadsR
         let mut parallel: Vec<&RunResult> = results
             .iter()
             .filter(same)
-            .filter(|r| r.mode == ExecutionMode::Parallel && r.split == sweep.split)
+            .filter(|r| r.mode == ExecutionMode::Parallel && r.split == sweep.split && r.pool == WorkerPool::Kessler)
             .collect();
         parallel.sort_by_key(|r| r.threads);
         parallel.dedup_by_key(|r| r.threads);
@@ -119,6 +119,7 @@ mod tests {
             mode,
             threads,
             split,
+            pool: WorkerPool::Kessler,
             update_ns: ns,
             stage_ns,
         }

@@ -10,7 +10,7 @@ use super::Calibration;
 use crate::bench::{
     Crossover, Run, RunDefaults, RunError, RunResult, Stages, Wins, crossovers, measure, this_cpu, utc_now,
 };
-use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy};
+use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool};
 use crate::scenario::Scenario;
 
 /// Body counts measured.
@@ -57,6 +57,7 @@ fn runs_at(bodies: u64, threads: usize) -> [Run; 2] {
         threads: Some(threads),
         stages: Stages::default(),
         split: Some(split),
+        pool: WorkerPool::Kessler,
         seed: None,
         shatter_fragments: None,
         shatter_threshold: None,
@@ -135,6 +136,7 @@ mod tests {
                     mode,
                     threads: 2,
                     split: SplitPolicy::Always,
+                    pool: WorkerPool::Kessler,
                     update_ns: update,
                     stage_ns,
                 };

@@ -14,7 +14,7 @@ use crate::bench::{
     empty_step_ns, empty_step_row, machine_report, measure_render, thread_rows,
 };
 use crate::calibration::machine_auto_split;
-use crate::execution::SplitPolicy;
+use crate::execution::{Execution, ExecutionMode, SplitPolicy, WorkerPool, available_threads};
 use crate::resources::GravityMethod;
 use crate::scenario::Scenario;
 use crate::user_files::default_calibration_path;
@@ -104,19 +104,27 @@ pub fn bench(
     Ok(())
 }
 
-/// The bare cost of a parallel step on 1 and 2 threads, as overhead rows.
+/// The bare cost of a parallel step on 1 and 2 threads of Kessler's pool,
+/// and on Bevy's `ComputeTaskPool` (with the threads it has), as overhead
+/// rows.
 fn measure_empty_steps() -> Result<Vec<OverheadRow>, Failure> {
+    let bevy_threads = Execution::new(ExecutionMode::Parallel, available_threads())?
+        .with_pool(WorkerPool::Bevy)
+        .threads_used();
     EMPTY_STEP_THREADS
         .iter()
-        .map(|&threads| {
-            let (split, whole) = empty_step_ns(threads)?;
+        .map(|&threads| (threads, WorkerPool::Kessler))
+        .chain(std::iter::once((bevy_threads, WorkerPool::Bevy)))
+        .map(|(threads, pool)| {
+            let (split, whole) = empty_step_ns(threads, pool)?;
             eprintln!(
-                "one parallel step of a near-empty kernel on {threads} thread{}: {:.2} µs (whole: {:.3} µs)",
+                "one parallel step of a near-empty kernel on {threads} thread{} of {}'s pool: {:.2} µs (whole: {:.3} µs)",
                 if threads == 1 { "" } else { "s" },
+                if pool == WorkerPool::Bevy { "Bevy" } else { "Kessler" },
                 split / 1e3,
                 whole / 1e3
             );
-            Ok(empty_step_row(threads, split, whole))
+            Ok(empty_step_row(threads, pool, split, whole))
         })
         .collect()
 }

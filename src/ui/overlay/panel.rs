@@ -10,7 +10,7 @@ use super::cascade::{Cascade, totals_readout};
 use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
-use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy};
+use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, WorkerPool};
 use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, FragmentSizes, GravityMethod};
 use crate::rng::Rng;
 use crate::systems::SimulationFault;
@@ -178,6 +178,16 @@ fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         slider(&mut settings.threads, 1..=max_threads()).text("threads"),
     );
     ui.add_enabled_ui(parallel, |ui| split_policy(ui, &mut settings.split));
+    ui.add_enabled_ui(parallel, |ui| {
+        ui.horizontal(|ui| {
+            ui.label("pool")
+                .on_hover_text("which worker pool runs the split work: the same results, another cost per dispatch");
+            ui.radio_value(&mut settings.pool, WorkerPool::Kessler, "Kessler's")
+                .on_hover_text("its own: exactly `threads` workers, kept polling between the steps of an update");
+            ui.radio_value(&mut settings.pool, WorkerPool::Bevy, "Bevy's")
+                .on_hover_text("Bevy's ComputeTaskPool, shared with the app; its threads are fixed at start");
+        });
+    });
 }
 
 /// The split policy: auto (this machine's calibration), always, or from a

@@ -50,6 +50,9 @@ fn apply_live_settings(world: &mut World) {
     if execution.split() != settings.split {
         execution.set_split(settings.split);
     }
+    if execution.pool() != settings.pool {
+        execution.set_pool(settings.pool);
+    }
     if execution.threads() != settings.threads
         && let Err(e) = execution.set_threads(settings.threads)
     {

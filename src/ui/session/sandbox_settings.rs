@@ -7,7 +7,7 @@ use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::draw_method::DrawMethod;
-use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, available_threads};
+use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool, available_threads};
 use crate::resources::{
     Applies, FragmentSizes, GravityMethod, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check,
 };
@@ -125,6 +125,9 @@ pub struct SandboxSettings {
     /// From which body count stages split their work in parallel mode
     /// (live).
     pub split: SplitPolicy,
+    /// Which pool runs the parallel steps (live): Kessler's own or Bevy's
+    /// `ComputeTaskPool`.
+    pub pool: WorkerPool,
     /// Wait for the display's refresh (live); off draws as fast as
     /// possible, as the thesis measured.
     pub vsync: bool,
@@ -185,6 +188,7 @@ impl Default for SandboxSettings {
             mode: ExecutionMode::Parallel,
             threads: available_threads(),
             split: SplitPolicy::Auto,
+            pool: WorkerPool::Kessler,
             vsync: true,
             render_bodies: true,
             visual_effects: true,
@@ -372,6 +376,7 @@ impl SandboxSettings {
             mode,
             threads,
             split,
+            pool,
             vsync,
             render_bodies,
             visual_effects,
