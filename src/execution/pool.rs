@@ -268,6 +268,11 @@ impl StageExecution<'_> {
         self.split
     }
 
+    /// Which pool the split steps run on.
+    pub fn pool(&self) -> WorkerPool {
+        self.execution.worker_pool
+    }
+
     /// Runs `kernel` over `data`: whole, on this thread, unless the stage
     /// splits; then on contiguous chunks in the worker pool.
     pub fn for_chunks<S, K>(&self, data: S, kernel: K)

@@ -5,9 +5,12 @@
 //! new velocity moving it, and the position before the move is kept for the
 //! collision response.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use bevy::prelude::*;
 
 use crate::components::{BodyId, Position, PreviousPosition, Velocity};
+use crate::execution::WorkerPool;
 use crate::resources::SimulationSettings;
 use crate::systems::{SimulationFault, SimulationSystems, SimulationUpdate, Stage, first_non_finite};
 
@@ -47,19 +50,40 @@ fn integrate(
     let clock = stage.start(SimulationSystems::Integrate);
     let dt = settings.time_step;
     let execution = clock.execution(bodies.iter().len());
-    let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
-    let mut finite = true;
-    for (_, velocities, mut positions, mut previous) in tables {
-        let columns = (
-            velocities,
-            positions.bypass_change_detection(),
-            previous.bypass_change_detection(),
-        );
-        finite &= execution
-            .map_chunks(columns, |columns| integrate_kernel(columns, dt))
-            .into_iter()
-            .all(|chunk| chunk);
-    }
+    let finite = if execution.splits() && execution.pool() == WorkerPool::Bevy {
+        // Bevy's own way for a stage that is per body: `par_iter_mut` on
+        // its ComputeTaskPool, in its batches; the kernel on each body
+        // alone (any cut gives the same bits), the check an exact "and".
+        let all_finite = AtomicBool::new(true);
+        bodies
+            .par_iter_mut()
+            .for_each(|(_, velocity, mut position, mut previous)| {
+                let one = (
+                    std::slice::from_ref(velocity),
+                    std::slice::from_mut(position.bypass_change_detection()),
+                    std::slice::from_mut(previous.bypass_change_detection()),
+                );
+                if !integrate_kernel(one, dt) {
+                    all_finite.store(false, Ordering::Relaxed);
+                }
+            });
+        all_finite.into_inner()
+    } else {
+        let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
+        let mut finite = true;
+        for (_, velocities, mut positions, mut previous) in tables {
+            let columns = (
+                velocities,
+                positions.bypass_change_detection(),
+                previous.bypass_change_detection(),
+            );
+            finite &= execution
+                .map_chunks(columns, |columns| integrate_kernel(columns, dt))
+                .into_iter()
+                .all(|chunk| chunk);
+        }
+        finite
+    };
     if !finite {
         // Rare: find which body, by the lowest id.
         let found = first_non_finite(bodies.iter().map(|(id, v, p, _)| (id, p, v)));
