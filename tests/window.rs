@@ -24,6 +24,12 @@ fn missing_window_tools() -> Option<String> {
             return Some(format!("`{tool}` is not installed"));
         }
     }
+    missing_vulkan()
+}
+
+/// Why nothing can be drawn here, even offscreen, if it cannot: no Vulkan
+/// driver.
+fn missing_vulkan() -> Option<String> {
     let icd_dirs = [
         "/usr/share/vulkan/icd.d",
         "/etc/vulkan/icd.d",
@@ -46,7 +52,18 @@ fn missing_window_tools() -> Option<String> {
 /// the test harness's capture of `eprintln!`) or, when the window tests are
 /// required, fails.
 fn window_available(test: &str) -> bool {
-    let Some(missing) = missing_window_tools() else {
+    available(test, missing_window_tools())
+}
+
+/// Whether `test` can draw offscreen (a Vulkan driver, no X server); as
+/// [`window_available`] if not.
+fn vulkan_available(test: &str) -> bool {
+    available(test, missing_vulkan())
+}
+
+/// Whether `test` can run, `missing` saying why not.
+fn available(test: &str, missing: Option<String>) -> bool {
+    let Some(missing) = missing else {
         return true;
     };
     if std::env::var_os("KESSLER_REQUIRE_WINDOW_TESTS").is_some_and(|v| v == "1") {
@@ -651,4 +668,106 @@ fn a_launched_ring_shows_in_the_next_frame_while_paused() {
         .filter(|&(x, y)| differs(plain.pixel(x, y), launched.pixel(x, y)))
         .count();
     assert!(changed > 300, "only {changed} pixels changed");
+}
+
+/// `--offscreen` draws into an image without an X server (DISPLAY unset):
+/// the same screenshot — the Earth in the middle — and a film of numbered
+/// pictures every `--every` updates, in which the bodies move.
+#[test]
+fn offscreen_runs_draw_without_an_x_server_and_film_the_run() {
+    if !vulkan_available("offscreen_runs_draw_without_an_x_server_and_film_the_run") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (shot, film, settings) = (
+        dir.path().join("shot.png"),
+        dir.path().join("film"),
+        dir.path().join("s.ron"),
+    );
+    std::fs::create_dir(&film).unwrap();
+    std::fs::write(&settings, "(ups: 60)").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+        .args(["run", "--offscreen", "--frames", "30", "--every", "10", "--screenshot"])
+        .arg(&shot)
+        .arg("--frames-out")
+        .arg(&film)
+        .arg("--settings")
+        .arg(&settings)
+        .env_remove("DISPLAY")
+        .env("WGPU_BACKEND", "vulkan")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let picture = Picture::load(&shot);
+    assert_eq!((picture.width, picture.height), (1280, 800));
+    let (cx, cy) = (640, 400);
+    let disc: Vec<[u8; 3]> = (-60..=60i64)
+        .flat_map(|dy| (-60..=60i64).map(move |dx| (dx, dy)))
+        .map(|(dx, dy)| picture.pixel((cx + dx) as usize, (cy + dy) as usize))
+        .collect();
+    let ocean = disc
+        .iter()
+        .filter(|[r, g, b]| *b > 60 && *b > r.saturating_add(30) && b > g)
+        .count();
+    assert!(
+        ocean * 5 > disc.len(),
+        "no Earth in the middle: {ocean} of {}",
+        disc.len()
+    );
+    let mut frames: Vec<PathBuf> = std::fs::read_dir(&film).unwrap().map(|e| e.unwrap().path()).collect();
+    frames.sort();
+    assert!(frames.len() >= 2, "{frames:?}");
+    assert!(frames[0].ends_with("frame-000001.png"), "{frames:?}");
+    let (first, last) = (Picture::load(&frames[0]), Picture::load(frames.last().unwrap()));
+    let moved = first
+        .scene_pixels()
+        .filter(|&(x, y)| differs(first.pixel(x, y), last.pixel(x, y)))
+        .count();
+    assert!(moved > 100, "the film's pictures are all alike: {moved} pixels changed");
+    // A second film into the same folder would overwrite the first.
+    let again = Command::new(env!("CARGO_BIN_EXE_kessler"))
+        .args(["run", "--offscreen", "--frames", "5", "--frames-out"])
+        .arg(&film)
+        .arg("--settings")
+        .arg(&settings)
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    assert_eq!(
+        again.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    assert!(String::from_utf8_lossy(&again.stderr).contains("--frames-out"));
+}
+
+/// A benchmark's `Render` run with `offscreen: true` measures frames
+/// without a display.
+#[test]
+fn an_offscreen_render_run_needs_no_display() {
+    if !vulkan_available("an_offscreen_render_run_needs_no_display") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("offscreen.ron");
+    std::fs::write(
+        &config,
+        "Bench(runs: [Render(bodies: 2000, frames: 10, method: Instanced, offscreen: true)])",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+        .args(["bench"])
+        .arg(&config)
+        .arg("--out")
+        .arg(dir.path().join("offscreen.csv"))
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rows = std::fs::read_to_string(dir.path().join("offscreen-render.csv")).unwrap();
+    assert_eq!(rows.lines().count(), 2, "{rows}");
+    assert!(rows.contains(",instanced,"), "{rows}");
 }

@@ -170,6 +170,10 @@ pub struct RenderRun {
     /// as the thesis measured).
     #[serde(default)]
     pub vsync: bool,
+    /// Draw into an image instead of a window (`kessler run --offscreen`):
+    /// no display needed, as on a GPU server (default off).
+    #[serde(default)]
+    pub offscreen: bool,
 }
 
 /// Stage switches of a run; the names are

@@ -163,6 +163,9 @@ pub fn child_args(run: &RenderRun, scenario: Option<&Path>, report: &Path, setti
     if !run.simulate {
         args.push("--paused".into());
     }
+    if run.offscreen {
+        args.push("--offscreen".into());
+    }
     args
 }
 
@@ -208,6 +211,7 @@ mod tests {
             mode: ExecutionMode::Parallel,
             ups: None,
             vsync: false,
+            offscreen: false,
         }
     }
 
@@ -255,5 +259,11 @@ mod tests {
             joined.contains("--settings /t/s.ron") && joined.ends_with("--paused"),
             "{joined}"
         );
+        let offscreen = RenderRun {
+            offscreen: true,
+            ..run()
+        };
+        let args = child_args(&offscreen, None, Path::new("/t/r.txt"), Path::new("/t/s.ron"));
+        assert!(args.join(" ").ends_with("--paused --offscreen"), "{args:?}");
     }
 }

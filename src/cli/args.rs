@@ -258,6 +258,17 @@ pub struct RunArgs {
     /// Breakup(...) | Remove | Rewind | Select(ID) | SaveSession("FILE"))`.
     #[arg(long, value_name = "FILE")]
     pub actions: Option<PathBuf>,
+    /// With --frames: draw into an image instead of a window (no X server
+    /// needed: a GPU server, or Mesa's software Vulkan).
+    #[arg(long, requires = "frames")]
+    pub offscreen: bool,
+    /// A numbered PNG (frame-000001.png, …) in this folder every --every
+    /// updates: a film of the run.
+    #[arg(long, value_name = "DIR")]
+    pub frames_out: Option<PathBuf>,
+    /// Updates between two pictures of --frames-out.
+    #[arg(long, value_name = "K", default_value_t = 1, requires = "frames_out", value_parser = crate::input::positive_count_arg, allow_negative_numbers = true)]
+    pub every: u64,
 }
 
 /// `--render` on the command line: the thesis's three drawing methods.

@@ -33,13 +33,14 @@ pub fn bench(
     let config = BenchConfig::load(config_path)?;
     // (A build without the window refused `Render` runs as it loaded.)
     #[cfg(feature = "gui")]
-    if let Some((i, _)) = config.render_runs().next()
+    if let Some((i, _)) = config.render_runs().find(|(_, run)| !run.offscreen)
         && crate::ui::session::no_display()
     {
         let i = config.origin(i);
         return Err(Failure::input(format!(
             "{}: runs[{i}]: `Render` runs open the window, and there is no X11 display (DISPLAY is not set): \
-             run the benchmark in a desktop session or under `xvfb-run -a kessler bench ...`",
+             run the benchmark in a desktop session, under `xvfb-run -a kessler bench ...`, or give the run \
+             `offscreen: true`",
             config_path.display()
         )));
     }

@@ -21,10 +21,13 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
         || args.frame_report.is_some()
         || args.dump.is_some()
         || args.actions.is_some()
+        || args.offscreen
+        || args.frames_out.is_some()
     {
         return Err(Failure::input(
             "this kessler was built without the window (cargo feature `gui`); \
-             --frames, --screenshot, --render, --vsync, --ups, --frame-report, --dump and --actions need it",
+             --frames, --screenshot, --render, --vsync, --ups, --frame-report, --dump, --actions, --offscreen and \
+             --frames-out need it",
         ));
     }
     let mut scenario = Scenario::load_or_default(args.scenario.as_deref())?;
@@ -67,6 +70,9 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
         frame_report: args.frame_report,
         dump: args.dump,
         actions: args.actions,
+        offscreen: args.offscreen,
+        frames_out: args.frames_out,
+        every: args.every,
     };
     crate::ui::run(options).map_err(Failure::from)
 }

@@ -2,14 +2,17 @@
 //! plugins, the window's own ([`SandboxPlugins`]), and the order of a frame's
 //! phases (`SandboxSystems`), chained here and nowhere else.
 
+use bevy::app::ScheduleRunnerPlugin;
 use bevy::prelude::*;
-use bevy::window::WindowResolution;
+use bevy::window::{ExitCondition, WindowResolution};
+use bevy::winit::WinitPlugin;
+use bevy_egui::input::EguiWantsInput;
 use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
 
 use super::draw::present_mode;
-use super::measure::{CapturePlugin, GpuMemoryPlugin, ScriptedRun};
+use super::measure::{CapturePlugin, Film, FilmPlugin, GpuMemoryPlugin, ScriptedRun};
 use super::plugins::SandboxPlugins;
-use super::session::{SandboxState, Start, WindowError, WindowOptions};
+use super::session::{OffscreenTarget, SandboxState, Start, WindowError, WindowOptions};
 use super::sets::SandboxSystems;
 use super::tools::{ActionScript, DumpAtClose};
 use crate::events::EventsPlugin;
@@ -40,42 +43,65 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
     state.paused = options.paused;
 
     let mut app = App::new();
-    app.add_plugins(DefaultPlugins.set(WindowPlugin {
-        primary_window: Some(Window {
+    let window = WindowPlugin {
+        primary_window: (!options.offscreen).then(|| Window {
             title: "Kessler".into(),
             resolution: WindowResolution::new(1280, 800),
             present_mode,
             ..default()
         }),
+        // Offscreen, the scripted run ends the app, not a closed window.
+        exit_condition: if options.offscreen {
+            ExitCondition::DontExit
+        } else {
+            ExitCondition::OnAllClosed
+        },
         ..default()
-    }))
-    .add_plugins((EguiPlugin::default(), SimulationPlugins, EventsPlugin))
-    .insert_resource(execution)
-    .insert_resource(settings)
-    .insert_resource(file)
-    .insert_resource(state)
-    .configure_sets(
-        Update,
-        (
-            SandboxSystems::BuildScene,
-            SandboxSystems::Tools,
-            SandboxSystems::Simulate,
-            SandboxSystems::View,
+    };
+    if options.offscreen {
+        // No window, no event loop: Bevy's headless runner, frames as fast
+        // as they come; the panel and the HUD (egui, which draws into a
+        // window) are left out.
+        app.add_plugins((
+            DefaultPlugins.set(window).disable::<WinitPlugin>(),
+            ScheduleRunnerPlugin::run_loop(std::time::Duration::ZERO),
+        ))
+        .init_resource::<EguiWantsInput>();
+        let target = OffscreenTarget::new(&mut app.world_mut().resource_mut::<Assets<Image>>());
+        app.insert_resource(target);
+    } else {
+        app.add_plugins((DefaultPlugins.set(window), EguiPlugin::default()));
+    }
+    app.add_plugins((SimulationPlugins, EventsPlugin))
+        .insert_resource(execution)
+        .insert_resource(settings)
+        .insert_resource(file)
+        .insert_resource(state)
+        .configure_sets(
+            Update,
+            (
+                SandboxSystems::BuildScene,
+                SandboxSystems::Tools,
+                SandboxSystems::Simulate,
+                SandboxSystems::View,
+            )
+                .chain(),
         )
-            .chain(),
-    )
-    .configure_sets(
-        EguiPrimaryContextPass,
-        (SandboxSystems::Panel, SandboxSystems::Hud).chain(),
-    )
-    .add_plugins(SandboxPlugins {
-        record_all_frames: options.frames.is_some(),
-    });
+        .configure_sets(
+            EguiPrimaryContextPass,
+            (SandboxSystems::Panel, SandboxSystems::Hud).chain(),
+        )
+        .add_plugins(SandboxPlugins {
+            record_all_frames: options.frames.is_some(),
+        });
     if let Some(path) = &options.actions {
         app.insert_resource(ActionScript::load(path)?);
     }
     if let Some(path) = &options.dump {
         app.insert_resource(DumpAtClose(path.clone()));
+    }
+    if let Some(dir) = &options.frames_out {
+        app.add_plugins(FilmPlugin(Film::new(dir.clone(), options.every)));
     }
     if let Some(frames) = options.frames {
         let mut run = ScriptedRun::new(frames, options.screenshot.clone());

@@ -6,18 +6,19 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use bevy::prelude::*;
-use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::render::view::screenshot::ScreenshotCaptured;
 
+use super::film::{save_png, screenshot_of};
 use super::frame_stats::{FrameStats, summarize};
 use super::gpu_memory::GpuMemory;
 use crate::bench::{FrameReport, peak_memory};
 use crate::components::{BodyId, GravityRole, Interacts};
 use crate::draw_method::DrawMethod;
-use crate::output::{write_atomically, write_png};
+use crate::output::write_atomically;
 use crate::ui::draw::InstancedBodies;
 use crate::ui::draw::is_celestial;
-use crate::ui::session::SandboxSettings;
 use crate::ui::session::UpdateClock;
+use crate::ui::session::{OffscreenTarget, SandboxSettings};
 
 /// Frames skipped before frame times count (pipelines compile, buffers fill).
 pub const WARMUP_FRAMES: usize = crate::bench::WINDOW_WARMUP_FRAMES as usize;
@@ -81,6 +82,10 @@ type Cubes<'w, 's> = Query<'w, 's, (&'static GravityRole, &'static Interacts), W
 
 /// After the frames (and once the bodies are on screen), takes the
 /// screenshot or ends the run.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a Bevy system's parameters are its data access"
+)]
 fn scripted_run(
     mut commands: Commands,
     mut run: ResMut<ScriptedRun>,
@@ -88,6 +93,7 @@ fn scripted_run(
     settings: Res<SandboxSettings>,
     instanced: Query<&InstancedBodies>,
     cubes: Cubes,
+    target: Option<Res<OffscreenTarget>>,
     mut exit: MessageWriter<AppExit>,
 ) {
     if run.capturing || stats.frames < run.frames {
@@ -109,27 +115,18 @@ fn scripted_run(
     match run.screenshot.clone() {
         Some(path) => {
             run.capturing = true;
-            commands.spawn(Screenshot::primary_window()).observe(
-                move |captured: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
-                    let saved = captured
-                        .image
-                        .clone()
-                        .try_into_dynamic()
-                        .map_err(|e| e.to_string())
-                        .and_then(|image| {
-                            let rgb = image.to_rgb8();
-                            write_atomically(&path, |w| write_png(w, rgb.width(), rgb.height(), rgb.as_raw()))
-                                .map_err(|e| e.source.to_string())
-                        });
-                    match saved {
-                        Ok(()) => {
-                            eprintln!("kessler: screenshot saved to {}", path.display());
-                            exit.write(AppExit::Success);
-                        }
-                        Err(e) => {
-                            eprintln!("kessler: error: {}: cannot save screenshot: {e}", path.display());
-                            exit.write(AppExit::from_code(1));
-                        }
+            commands.spawn(screenshot_of(target.as_deref())).observe(
+                move |captured: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| match save_png(
+                    &captured.image,
+                    &path,
+                ) {
+                    Ok(()) => {
+                        eprintln!("kessler: screenshot saved to {}", path.display());
+                        exit.write(AppExit::Success);
+                    }
+                    Err(e) => {
+                        eprintln!("kessler: error: {}: cannot save screenshot: {e}", path.display());
+                        exit.write(AppExit::from_code(1));
                     }
                 },
             );

@@ -6,6 +6,7 @@
 //! nothing else of the window but its phases ([`crate::ui::sets`]).
 
 pub mod drive;
+pub mod offscreen;
 pub mod sandbox_settings;
 pub mod scene;
 pub mod settings_file;
@@ -15,6 +16,7 @@ pub mod update_clock;
 mod window_options;
 
 pub use drive::DrivePlugin;
+pub use offscreen::{OFFSCREEN_SIZE, OffscreenTarget, frame_path};
 pub use sandbox_settings::{
     CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE, SPEED_RANGE,
     SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,

@@ -26,7 +26,9 @@ impl Start {
     /// [`Self::read`]).
     pub fn from_options(options: &WindowOptions) -> Result<Self, WindowError> {
         check_outputs_of(options)?;
-        check_display()?;
+        if !options.offscreen {
+            check_display()?;
+        }
         Self::read(options)
     }
 
@@ -124,6 +126,18 @@ fn check_outputs_of(options: &WindowOptions) -> Result<(), WindowError> {
     }
     if let Some(path) = &options.dump {
         outputs.push(Output::replacing("--dump", path));
+    }
+    // A film never overwrites one: its first picture must be new.
+    let first_frame = options
+        .frames_out
+        .as_deref()
+        .map(|dir| super::offscreen::frame_path(dir, 1));
+    if let Some(path) = &first_frame {
+        outputs.push(Output::new_only(
+            "--frames-out",
+            path,
+            "films never overwrite, choose an empty folder",
+        ));
     }
     check_outputs(&outputs, &inputs)?;
     Ok(())

@@ -42,6 +42,12 @@ pub struct WindowOptions {
     pub dump: Option<PathBuf>,
     /// A file of tool actions to take at given frames.
     pub actions: Option<PathBuf>,
+    /// Draw into an image instead of a window: no display needed.
+    pub offscreen: bool,
+    /// A folder for a numbered PNG every `every` updates (a film).
+    pub frames_out: Option<PathBuf>,
+    /// Updates between two pictures of `frames_out`.
+    pub every: u64,
 }
 
 /// Why the window could not run.

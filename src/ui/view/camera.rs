@@ -1,6 +1,7 @@
 //! The cameras: orbit (bevy_panorbit_camera), free fly, and follow the
 //! selected body. The camera key (C) and the panel switch between them.
 
+use bevy::camera::RenderTarget;
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::input::mouse::AccumulatedMouseMotion;
 use bevy::prelude::*;
@@ -11,7 +12,7 @@ use bevy_panorbit_camera::{PanOrbitCamera, PanOrbitCameraPlugin};
 use super::main_camera::MainCamera;
 use super::selection::{Selection, select_on_click};
 use crate::components::{BodyId, Position};
-use crate::ui::session::{CameraMode, SandboxSettings};
+use crate::ui::session::{CameraMode, OffscreenTarget, SandboxSettings};
 use crate::ui::sets::SandboxSystems;
 
 /// Distance of the camera from the origin at start, before the first scene
@@ -45,9 +46,9 @@ pub const FLY_SPEED: f32 = 600.0;
 const LOOK_SENSITIVITY: f32 = 0.003;
 
 /// Spawns the camera looking at the origin.
-fn spawn_camera(mut commands: Commands) {
+fn spawn_camera(mut commands: Commands, offscreen: Option<Res<OffscreenTarget>>) {
     let distance = START_DISTANCE;
-    commands.spawn((
+    let mut camera = commands.spawn((
         Name::new("Camera"),
         MainCamera,
         Camera3d::default(),
@@ -70,6 +71,10 @@ fn spawn_camera(mut commands: Commands) {
             ..default()
         },
     ));
+    // Offscreen: into the image instead of the window.
+    if let Some(OffscreenTarget(image)) = offscreen.as_deref() {
+        camera.insert(RenderTarget::Image(image.clone().into()));
+    }
 }
 
 /// Once, after the first scene is built: backs the orbit camera off far

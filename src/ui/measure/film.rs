@@ -1,0 +1,91 @@
+//! Films (`kessler run --frames-out DIR --every K`): a numbered PNG of the
+//! window (or the offscreen image) every K updates — at most one a frame,
+//! so a frame that runs past several multiples of K gives one picture.
+
+use std::path::PathBuf;
+
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+
+use super::capture::ScriptedRun;
+use crate::output::{write_atomically, write_png};
+use crate::ui::session::{OffscreenTarget, UpdateClock, frame_path};
+
+/// Where a film goes and how far it is.
+#[derive(Resource, Clone, Debug)]
+pub struct Film {
+    /// The folder.
+    pub dir: PathBuf,
+    /// Updates between two pictures.
+    pub every: u64,
+    /// Pictures asked for so far.
+    taken: u64,
+    /// The multiple of `every` of the last picture.
+    last: Option<u64>,
+}
+
+impl Film {
+    /// A film into `dir`, a picture every `every` updates.
+    pub fn new(dir: PathBuf, every: u64) -> Self {
+        Self {
+            dir,
+            every: every.max(1),
+            taken: 0,
+            last: None,
+        }
+    }
+}
+
+/// Takes the film's pictures.
+pub struct FilmPlugin(pub Film);
+
+impl Plugin for FilmPlugin {
+    fn build(&self, app: &mut App) {
+        app.insert_resource(self.0.clone()).add_systems(Last, take_picture);
+    }
+}
+
+/// A screenshot of the window, or of the offscreen image.
+pub fn screenshot_of(target: Option<&OffscreenTarget>) -> Screenshot {
+    match target {
+        Some(OffscreenTarget(image)) => Screenshot::image(image.clone()),
+        None => Screenshot::primary_window(),
+    }
+}
+
+/// Saves `image` as an RGB PNG at `path` (written in full beside it, then
+/// put in place).
+pub fn save_png(image: &Image, path: &std::path::Path) -> Result<(), String> {
+    let rgb = image.clone().try_into_dynamic().map_err(|e| e.to_string())?.to_rgb8();
+    write_atomically(path, |w| write_png(w, rgb.width(), rgb.height(), rgb.as_raw())).map_err(|e| e.source.to_string())
+}
+
+/// A picture when the update count passed the next multiple of `every`
+/// (and one at the start).
+fn take_picture(
+    mut commands: Commands,
+    clock: Res<UpdateClock>,
+    mut film: ResMut<Film>,
+    target: Option<Res<OffscreenTarget>>,
+    run: Option<Res<ScriptedRun>>,
+) {
+    // A scripted run's last screenshot is being taken: the app is ending,
+    // and one render target takes one screenshot a frame.
+    if run.is_some_and(|run| run.capturing) {
+        return;
+    }
+    let multiple = clock.updates_total / film.every;
+    if film.last == Some(multiple) {
+        return;
+    }
+    film.last = Some(multiple);
+    film.taken += 1;
+    let path = frame_path(&film.dir, film.taken);
+    commands
+        .spawn(screenshot_of(target.as_deref()))
+        .observe(move |captured: On<ScreenshotCaptured>| {
+            if let Err(e) = save_png(&captured.image, &path) {
+                eprintln!("kessler: error: {}: cannot save a film's picture: {e}", path.display());
+            }
+        });
+}
