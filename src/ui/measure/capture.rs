@@ -8,9 +8,9 @@ use std::time::{Duration, Instant};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::ScreenshotCaptured;
 
-use super::film::{save_png, screenshot_of};
 use super::frame_stats::{FrameStats, summarize};
 use super::gpu_memory::GpuMemory;
+use super::picture::{save_png, screenshot_of};
 use crate::bench::{FrameReport, peak_memory};
 use crate::components::{BodyId, GravityRole, Interacts};
 use crate::draw_method::DrawMethod;

@@ -5,10 +5,10 @@
 use std::path::PathBuf;
 
 use bevy::prelude::*;
-use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::render::view::screenshot::ScreenshotCaptured;
 
 use super::capture::ScriptedRun;
-use crate::output::{write_atomically, write_png};
+use super::picture::{save_png, screenshot_of};
 use crate::ui::session::{OffscreenTarget, UpdateClock, frame_path};
 
 /// Where a film goes and how far it is.
@@ -43,21 +43,6 @@ impl Plugin for FilmPlugin {
     fn build(&self, app: &mut App) {
         app.insert_resource(self.0.clone()).add_systems(Last, take_picture);
     }
-}
-
-/// A screenshot of the window, or of the offscreen image.
-pub fn screenshot_of(target: Option<&OffscreenTarget>) -> Screenshot {
-    match target {
-        Some(OffscreenTarget(image)) => Screenshot::image(image.clone()),
-        None => Screenshot::primary_window(),
-    }
-}
-
-/// Saves `image` as an RGB PNG at `path` (written in full beside it, then
-/// put in place).
-pub fn save_png(image: &Image, path: &std::path::Path) -> Result<(), String> {
-    let rgb = image.clone().try_into_dynamic().map_err(|e| e.to_string())?.to_rgb8();
-    write_atomically(path, |w| write_png(w, rgb.width(), rgb.height(), rgb.as_raw())).map_err(|e| e.source.to_string())
 }
 
 /// A picture when the update count passed the next multiple of `every`

@@ -8,6 +8,7 @@ pub mod capture;
 pub mod film;
 pub mod frame_stats;
 pub mod gpu_memory;
+pub mod picture;
 
 pub use capture::{CapturePlugin, ScriptedRun};
 pub use film::{Film, FilmPlugin};
