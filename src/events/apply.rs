@@ -8,11 +8,11 @@ use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, BodyStateQuery, Interacts, spawn_states};
 use crate::maths;
-use crate::resources::{FragmentSizes, NextBodyId, SimulationSettings};
+use crate::resources::{NextBodyId, SimulationSettings};
 use crate::rng::Rng;
 use crate::scenario::generators::{self, Obstacles};
 use crate::scenario::{Body, Breakup, Event, Fire, Generator, Spawn, Template};
-use crate::systems::breakup_fragments;
+use crate::systems::{box_volume, breakup_fragments, smallest_fragment_edge};
 
 /// The key of the spawns' generator streams and of the impactors' default
 /// directions, each then keyed by the first fresh id it hands out (never
@@ -198,15 +198,7 @@ fn apply_breakup(world: &mut World, breakup: &Breakup) -> Result<(), String> {
     }
     let settings = world.resource::<SimulationSettings>().clone();
     let sizes = breakup.sizes.unwrap_or(settings.fragment_sizes);
-    // Equal cubes below the floor, or, for the power law (whose fragments
-    // keep to the floor), a body too small for two.
-    let pieces = match sizes {
-        FragmentSizes::Equal => breakup.fragments,
-        FragmentSizes::PowerLaw { .. } => 2,
-    };
-    let h = body.half_extents;
-    let volume = f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
-    let edge = 2.0 * maths::cbrt(volume / f64::from(pieces));
+    let edge = smallest_fragment_edge(box_volume(body.half_extents), sizes, breakup.fragments);
     if edge < f64::from(settings.min_fragment_size) {
         return Err(format!(
             "its fragments' edge, {edge:.3}, would be below `min_fragment_size` ({})",

@@ -39,8 +39,8 @@ pub use response::{
 };
 pub use schedule::{BetweenUpdates, NextEventAt, SchedulePlugin, SimulationUpdate, run_due_events, run_updates};
 pub use shatter::{
-    PendingShatters, Reentering, ShatterPair, ShatterPlugin, breakup_fragments, fragment_half_extent, fragments,
-    fragments_for, power_law_fragments, power_law_halves,
+    PendingShatters, Reentering, ShatterPair, ShatterPlugin, box_volume, breakup_fragments, fragment_half_extent,
+    fragments, fragments_for, power_law_fragments, power_law_halves, smallest_fragment_edge,
 };
 pub use sort::SortPlugin;
 pub use stage_clock::{Stage, StageClock};

@@ -67,11 +67,27 @@ fn sphere_points(count: u32) -> Vec<DVec3> {
         .collect()
 }
 
+/// A box's volume in half-edge units, `hx·hy·hz`.
+pub fn box_volume(h: Vec3) -> f64 {
+    f64::from(h.x) * f64::from(h.y) * f64::from(h.z)
+}
+
 /// Half the edge of each of the `count` fragment cubes of two boxes: the
 /// cubes keep the pair's volume, `∛((h1x·h1y·h1z + h2x·h2y·h2z)/count)`.
 pub fn fragment_half_extent(a: Vec3, b: Vec3, count: u32) -> f64 {
-    let volume = |h: Vec3| f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
-    maths::cbrt((volume(a) + volume(b)) / f64::from(count.max(2)))
+    maths::cbrt((box_volume(a) + box_volume(b)) / f64::from(count.max(2)))
+}
+
+/// The edge the smallest fragments of `volume` (half-edge units) would
+/// have, as `sizes` sizes at most `count` of them: the equal cubes', or,
+/// for the power law (whose fragments keep to the floor), two halves' —
+/// what a shatter and a breakup hold against `min_fragment_size`.
+pub fn smallest_fragment_edge(volume: f64, sizes: FragmentSizes, count: u32) -> f64 {
+    let pieces = match sizes {
+        FragmentSizes::Equal => count,
+        FragmentSizes::PowerLaw { .. } => 2,
+    };
+    2.0 * maths::cbrt(volume / f64::from(pieces.max(2)))
 }
 
 /// Kernel: the fragments of bodies `a` and `b`, with ids from `first_id`.
@@ -111,8 +127,7 @@ pub fn fragments_for(a: &BodyState, b: &BodyState, settings: &SimulationSettings
 /// The pair's volume in half-edge units (`Σ hx·hy·hz`), and the half-edge
 /// of a cube as large as the larger parent.
 fn volumes(a: &BodyState, b: &BodyState) -> (f64, f64) {
-    let volume = |h: Vec3| f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
-    let (va, vb) = (volume(a.half_extents), volume(b.half_extents));
+    let (va, vb) = (box_volume(a.half_extents), box_volume(b.half_extents));
     (va + vb, maths::cbrt(va.max(vb)))
 }
 
@@ -255,8 +270,7 @@ pub fn breakup_fragments(
     first_id: BodyId,
 ) -> Vec<BodyState> {
     let count = count.max(2);
-    let h = body.half_extents;
-    let volume = f64::from(h.x) * f64::from(h.y) * f64::from(h.z);
+    let volume = box_volume(body.half_extents);
     let parent = Parent::single(body, speed, seed);
     match sizes {
         FragmentSizes::Equal => {

@@ -17,8 +17,8 @@ use crate::components::{
     Absorbs, BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical,
     Velocity,
 };
-use crate::resources::{FragmentSizes, NextBodyId, SimulationSettings};
-use crate::systems::shatter::{PendingShatters, Reentering, ShatterPair, fragment_half_extent};
+use crate::resources::{NextBodyId, SimulationSettings};
+use crate::systems::shatter::{PendingShatters, Reentering, ShatterPair, box_volume, smallest_fragment_edge};
 use crate::systems::sweep::{OverlappingPairs, Pair};
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
 
@@ -80,13 +80,8 @@ pub fn refuse_shatters(
         if *outcome != Outcome::Shatter {
             continue;
         }
-        // Equal cubes below the floor, or, for the power law (whose
-        // fragments keep to the floor), a pair too small for two.
-        let pieces = match settings.fragment_sizes {
-            FragmentSizes::Equal => count,
-            FragmentSizes::PowerLaw { .. } => 2,
-        };
-        let edge = 2.0 * fragment_half_extent(a.half_extents, b.half_extents, pieces);
+        let volume = box_volume(a.half_extents) + box_volume(b.half_extents);
+        let edge = smallest_fragment_edge(volume, settings.fragment_sizes, count);
         if edge < f64::from(settings.min_fragment_size)
             || bodies + added > settings.max_bodies
             || !next_id.has_room_for(u64::from(count))
