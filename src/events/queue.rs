@@ -72,12 +72,7 @@ impl EventQueue {
         Self {
             events,
             done: 0,
-            around: scenario
-                .bodies
-                .iter()
-                .enumerate()
-                .map(|(i, b)| b.id.unwrap_or(i as u64))
-                .collect(),
+            around: scenario.explicit_bodies().map(|(id, _)| id).collect(),
         }
     }
 

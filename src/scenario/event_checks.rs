@@ -3,19 +3,22 @@
 //! and shells, a direction that is one, and the bodies events name where
 //! the file already tells whether they exist (docs/design.md, "Events").
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 
 use super::checked::MAX_BODIES;
 use super::contents::Scenario;
 use super::events::{Event, Spawn};
-use super::format::Generator;
+use super::format::{Body, Generator};
 use super::load::shape_problem;
 use crate::input::InputError;
 
 impl Scenario {
     /// Checks every event; the first problem names `events[i].field`.
     pub(super) fn check_events(&self) -> Result<(), InputError> {
-        let initial = self.initial_ids();
+        if self.events.is_empty() {
+            return Ok(());
+        }
+        let explicit: HashMap<u64, &Body> = self.explicit_bodies().collect();
         let mut spawned: u64 = 0;
         for (i, event) in self.events.iter().enumerate() {
             let problem = match event {
@@ -36,7 +39,7 @@ impl Scenario {
                 } else {
                     "body"
                 };
-                self.body_problem(id, &initial, matches!(event, Event::Breakup(_)))
+                self.body_problem(id, &explicit, matches!(event, Event::Breakup(_)))
                     .map(|p| (field.to_owned(), p))
             });
             if let Some((field, problem)) = problem {
@@ -60,49 +63,27 @@ impl Scenario {
         Ok(())
     }
 
-    /// The ids of the bodies the scenario starts with: explicit ones given
-    /// by id; generated ones are a range (see [`Self::is_initial`]).
-    fn initial_ids(&self) -> HashSet<u64> {
-        self.bodies
-            .iter()
-            .enumerate()
-            .map(|(i, b)| b.id.unwrap_or(i as u64))
-            .collect()
-    }
-
     /// What is wrong with an event naming body `id`: an id below `next_id`
     /// that no body has at the start (such ids are never handed out
     /// again), or, for a breakup, a body there that does not interact.
-    fn body_problem(&self, id: u64, initial: &HashSet<u64>, breaks_up: bool) -> Option<String> {
+    /// `explicit`: the explicit bodies by id.
+    fn body_problem(&self, id: u64, explicit: &HashMap<u64, &Body>, breaks_up: bool) -> Option<String> {
         let first_generated = self.first_generated_id();
-        let generated = id >= first_generated && id - first_generated < self.generated_count();
-        if initial.contains(&id) || generated {
-            let explicit = self
-                .bodies
-                .iter()
-                .enumerate()
-                .find(|(i, b)| b.id.unwrap_or(*i as u64) == id);
-            let interacts = match explicit {
-                Some((_, b)) => b.interacts,
-                None => self.generator_of(id - first_generated).is_none_or(|t| t.interacts),
-            };
-            return (breaks_up && !interacts)
-                .then(|| format!("body {id} does not interact (a planet): only interacting bodies break up"));
+        let interacts = match explicit.get(&id) {
+            Some(body) => Some(body.interacts),
+            None if id >= first_generated => self.generator_of(id - first_generated).map(|t| t.interacts),
+            None => None,
+        };
+        match interacts {
+            Some(interacts) => (breaks_up && !interacts)
+                .then(|| format!("body {id} does not interact (a planet): only interacting bodies break up")),
+            None => (id < self.next_id()).then(|| {
+                format!(
+                    "there is no body {id} at the start, and no body will get that id (fresh ids start at {})",
+                    self.next_id()
+                )
+            }),
         }
-        (id < self.next_id()).then(|| {
-            format!(
-                "there is no body {id} at the start, and no body will get that id (fresh ids start at {})",
-                self.next_id()
-            )
-        })
-    }
-
-    /// Bodies the generators make.
-    fn generated_count(&self) -> u64 {
-        self.generators
-            .iter()
-            .map(Generator::count)
-            .fold(0, u64::saturating_add)
     }
 
     /// What the generated body at `offset` (from the first generated id) is

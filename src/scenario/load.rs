@@ -140,11 +140,7 @@ impl Scenario {
     /// what is wrong, else `None`.
     pub(super) fn generated_ids_problem(&self) -> Option<String> {
         let first = self.first_generated_id();
-        let generated = self
-            .generators
-            .iter()
-            .map(Generator::count)
-            .fold(0, u64::saturating_add);
+        let generated = self.generated_count();
         (first.saturating_add(generated) > MAX_ID).then(|| {
             format!(
                 "the {generated} generated bodies would be numbered from {first} to {}, past the largest id, {} \
@@ -155,20 +151,32 @@ impl Scenario {
         })
     }
 
-    /// The id of the first generated body: one past the highest explicit id.
-    pub(super) fn first_generated_id(&self) -> u64 {
+    /// The explicit bodies with their ids: their own, or their place in the
+    /// list.
+    pub fn explicit_bodies(&self) -> impl Iterator<Item = (u64, &Body)> {
         self.bodies
             .iter()
             .enumerate()
-            .map(|(i, b)| b.id.unwrap_or(i as u64) + 1)
-            .max()
-            .unwrap_or(0)
+            .map(|(i, b)| (b.id.unwrap_or(i as u64), b))
+    }
+
+    /// Bodies the generators make.
+    pub(super) fn generated_count(&self) -> u64 {
+        self.generators
+            .iter()
+            .map(Generator::count)
+            .fold(0, u64::saturating_add)
+    }
+
+    /// The id of the first generated body: one past the highest explicit id.
+    pub(super) fn first_generated_id(&self) -> u64 {
+        self.explicit_bodies().map(|(id, _)| id + 1).max().unwrap_or(0)
     }
 
     /// The id the first fresh body (a fragment) gets: `next_id`, else one
     /// past every body's id.
     pub fn next_id(&self) -> u64 {
-        let past_all = self.first_generated_id() + self.generators.iter().map(Generator::count).sum::<u64>();
+        let past_all = self.first_generated_id() + self.generated_count();
         self.next_id.unwrap_or(past_all).max(past_all)
     }
 
@@ -227,8 +235,7 @@ impl Scenario {
 
     /// Number of bodies [`bodies`](Self::bodies) will create.
     pub fn body_count(&self) -> u64 {
-        let generated: u64 = self.generators.iter().map(Generator::count).sum();
-        self.bodies.len() as u64 + generated
+        self.bodies.len() as u64 + self.generated_count()
     }
 
     /// All bodies: explicit ones with their ids (0, 1, 2… in file order
@@ -236,12 +243,7 @@ impl Scenario {
     /// past the highest explicit id.
     pub fn bodies(&self) -> Result<Vec<BodyState>, InputError> {
         let mut out = Vec::with_capacity(usize::try_from(self.body_count()).unwrap_or(0));
-        out.extend(
-            self.bodies
-                .iter()
-                .enumerate()
-                .map(|(i, b)| b.state(b.id.unwrap_or(i as u64))),
-        );
+        out.extend(self.explicit_bodies().map(|(id, b)| b.state(id)));
         let mut first_id = self.first_generated_id();
         let obstacles = Obstacles::new(&self.bodies);
         for (i, generator) in self.generators.iter().enumerate() {
