@@ -169,8 +169,9 @@ pub fn restart_scene(world: &mut World) {
     for entity in old {
         world.despawn(entity);
     }
-    // Fresh ids continue from a snapshot's `next_id`, as headless runs do.
-    let next = spawn_bodies(world, &bodies).max(world.resource::<SandboxState>().scenario.next_id());
+    // Fresh ids continue from the built scenario's next id (a snapshot's
+    // `next_id`), as headless runs of it — a saved session's replay — do.
+    let next = spawn_bodies(world, &bodies).max(scenario.next_id());
     world.insert_resource(NextBodyId(next));
     world.insert_resource(scenario.settings());
     install_events(world, &scenario);
@@ -278,6 +279,10 @@ mod tests {
         let mut world = sandbox_world(settings);
         restart_scene(&mut world);
         assert_eq!(body_count(&mut world), 302, "planet, moon and 300 debris");
+        // Fresh ids follow the scene as built (300 debris, not the file's
+        // 20 000), as a replay of its session numbers them.
+        let started = world.resource::<SandboxState>().started_from.next_id();
+        assert_eq!((world.resource::<NextBodyId>().0, started), (302, 302));
 
         // Pick another scenario and restart: the old bodies are gone, the
         // scenario's own seed is taken.
