@@ -125,6 +125,7 @@ impl EventQueue {
 /// skipped and keeps the first, with why, for the summary to name once.
 pub fn apply_due_events(world: &mut World) {
     let updates = world.resource::<SimulationFault>().updates;
+    let around = world.resource::<EventQueue>().around.clone();
     loop {
         let queue = world.resource::<EventQueue>();
         let Some(next) = queue
@@ -135,11 +136,8 @@ pub fn apply_due_events(world: &mut World) {
         else {
             break;
         };
-        let around = std::mem::take(&mut world.resource_mut::<EventQueue>().around);
         let result = apply(world, &next.event, &around);
-        let mut queue = world.resource_mut::<EventQueue>();
-        queue.around = around;
-        queue.done += 1;
+        world.resource_mut::<EventQueue>().done += 1;
         let mut log = world.resource_mut::<EventLog>();
         match result {
             Ok(()) => log.applied += 1,
