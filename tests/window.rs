@@ -146,10 +146,81 @@ impl Picture {
         [self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]]
     }
 
-    /// Pixels of the 3D view below the HUD and right of the panel.
-    fn scene_pixels(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        (self.height / 2..self.height).flat_map(move |y| (300..self.width - 300).map(move |x| (x, y)))
+    /// The egui overlays drawn over the view (the panel on the left, the
+    /// HUD on the right), found by egui's window fill: in each half of the
+    /// picture, the rows holding a run of at least [`OVERLAY_RUN`] fill
+    /// pixels, and the columns those runs span, widened by the frame.
+    /// Their size follows their text (the HUD grows a line when updates
+    /// are dropped), so no test may assume where they end.
+    fn overlays(&self) -> Vec<Rect> {
+        let halves = [0..self.width / 2, self.width / 2..self.width];
+        halves
+            .into_iter()
+            .filter_map(|columns| {
+                let mut found: Option<Rect> = None;
+                for y in 0..self.height {
+                    let mut run_start = columns.start;
+                    for x in columns.clone() {
+                        if self.pixel(x, y) != EGUI_FILL {
+                            run_start = x + 1;
+                        } else if x + 1 - run_start >= OVERLAY_RUN {
+                            let rect = found.get_or_insert(Rect {
+                                x0: run_start,
+                                y0: y,
+                                x1: x,
+                                y1: y,
+                            });
+                            (rect.x0, rect.x1) = (rect.x0.min(run_start), rect.x1.max(x));
+                            (rect.y0, rect.y1) = (rect.y0.min(y), rect.y1.max(y));
+                        }
+                    }
+                }
+                found
+            })
+            .map(|r| Rect {
+                x0: r.x0.saturating_sub(OVERLAY_FRAME),
+                y0: r.y0.saturating_sub(OVERLAY_FRAME),
+                x1: r.x1 + OVERLAY_FRAME,
+                y1: r.y1 + OVERLAY_FRAME,
+            })
+            .collect()
     }
+}
+
+/// egui's window and panel fill in its dark theme.
+const EGUI_FILL: [u8; 3] = [27, 27, 27];
+
+/// Fill pixels in a row that make it part of an overlay (no body or star
+/// draws a run of one exact gray this long).
+const OVERLAY_RUN: usize = 24;
+
+/// Pixels around an overlay's fill: its frame and shadow.
+const OVERLAY_FRAME: usize = 6;
+
+/// A rectangle of pixels, bounds included.
+#[derive(Clone, Copy, Debug)]
+struct Rect {
+    x0: usize,
+    y0: usize,
+    x1: usize,
+    y1: usize,
+}
+
+impl Rect {
+    fn contains(&self, (x, y): (usize, usize)) -> bool {
+        (self.x0..=self.x1).contains(&x) && (self.y0..=self.y1).contains(&y)
+    }
+}
+
+/// Pixels of the 3D view, the lower half of the middle, that no overlay of
+/// any of `pictures` covers: what the pictures' scenes can be compared on.
+fn scene_pixels(pictures: &[&Picture]) -> Vec<(usize, usize)> {
+    let (width, height) = (pictures[0].width, pictures[0].height);
+    let overlays: Vec<Rect> = pictures.iter().flat_map(|p| p.overlays()).collect();
+    (height / 2..height)
+        .flat_map(|y| (300..width - 300).map(move |x| (x, y)))
+        .filter(|&at| !overlays.iter().any(|o| o.contains(at)))
+        .collect()
 }
 
 fn differs(a: [u8; 3], b: [u8; 3]) -> bool {
@@ -216,20 +287,21 @@ fn window_shows_the_planet_and_the_bodies() {
         f64::from(hi - lo) / f64::from(hi.max(1))
     };
     let mut mean_saturation = Vec::new();
+    let view = scene_pixels(&[&with_bodies, &without, &meshes, &own]);
     for (name, picture) in [
         ("instanced", &with_bodies),
         ("shared mesh", &meshes),
         ("mesh per body", &own),
     ] {
-        let changed = with_bodies
-            .scene_pixels()
-            .filter(|&(x, y)| differs(picture.pixel(x, y), without.pixel(x, y)))
+        let changed = view
+            .iter()
+            .filter(|&&(x, y)| differs(picture.pixel(x, y), without.pixel(x, y)))
             .count();
         assert!(changed > 1000, "{name}: only {changed} pixels show bodies");
-        let on_sky: Vec<f64> = with_bodies
-            .scene_pixels()
-            .filter(|&(x, y)| without.pixel(x, y).iter().all(|&c| c < 30))
-            .map(|(x, y)| picture.pixel(x, y))
+        let on_sky: Vec<f64> = view
+            .iter()
+            .filter(|&&(x, y)| without.pixel(x, y).iter().all(|&c| c < 30))
+            .map(|&(x, y)| picture.pixel(x, y))
             .filter(|p| p.iter().any(|&c| c > 60))
             .map(saturation)
             .collect();
@@ -251,7 +323,7 @@ fn window_shows_the_planet_and_the_bodies() {
 
 /// The thesis scene, 10 000 unit cubes about 2 500 units from the camera,
 /// reads as a cloud: each body keeps a least size on screen, so a tenth of
-/// the view below the HUD is lit by bodies (sub-pixel dots lit under half
+/// the view outside the panel and the HUD is lit by bodies (sub-pixel dots lit under half
 /// a percent), while the stars alone, smaller and dimmer than any body,
 /// light under one percent and never brightly.
 #[test]
@@ -264,15 +336,19 @@ fn the_thesis_cloud_reads_as_a_cloud_and_the_stars_stay_dim() {
     let (cloud, ..) = run_window(dir.path(), "cloud", "()", &[scene]);
     let (sky, ..) = run_window(dir.path(), "sky", "(render_bodies: false)", &[scene]);
     let (cloud, sky) = (Picture::load(&cloud), Picture::load(&sky));
+    for picture in [&cloud, &sky] {
+        assert_eq!(
+            picture.overlays().len(),
+            2,
+            "the panel and the HUD: {:?}",
+            picture.overlays()
+        );
+    }
     let (cx, cy) = (cloud.width as i64 / 2, cloud.height as i64 / 2);
-    // The view below the HUD (which reaches down to about 480 of 800
-    // pixels), right of the panel (about 340 of 1280), away from the
-    // planet.
-    let around: Vec<(usize, usize)> = cloud
-        .scene_pixels()
-        .filter(|&(x, y)| {
-            x > 360 && y * 8 > cloud.height * 5 && (x as i64 - cx).pow(2) + (y as i64 - cy).pow(2) > 120 * 120
-        })
+    // The view outside the panel and the HUD, away from the planet.
+    let around: Vec<(usize, usize)> = scene_pixels(&[&cloud, &sky])
+        .into_iter()
+        .filter(|&(x, y)| (x as i64 - cx).pow(2) + (y as i64 - cy).pow(2) > 120 * 120)
         .collect();
     let lit = |picture: &Picture| {
         around
@@ -663,8 +739,8 @@ fn a_launched_ring_shows_in_the_next_frame_while_paused() {
     );
     assert!(stdout.contains("0 updates"), "paused: {stdout}");
     let (plain, launched) = (Picture::load(&plain), Picture::load(&launched));
-    let changed = launched
-        .scene_pixels()
+    let changed = scene_pixels(&[&plain, &launched])
+        .into_iter()
         .filter(|&(x, y)| differs(plain.pixel(x, y), launched.pixel(x, y)))
         .count();
     assert!(changed > 300, "only {changed} pixels changed");
@@ -721,8 +797,8 @@ fn offscreen_runs_draw_without_an_x_server_and_film_the_run() {
     assert!(frames.len() >= 2, "{frames:?}");
     assert!(frames[0].ends_with("frame-000001.png"), "{frames:?}");
     let (first, last) = (Picture::load(&frames[0]), Picture::load(frames.last().unwrap()));
-    let moved = first
-        .scene_pixels()
+    let moved = scene_pixels(&[&first, &last])
+        .into_iter()
         .filter(|&(x, y)| differs(first.pixel(x, y), last.pixel(x, y)))
         .count();
     assert!(moved > 100, "the film's pictures are all alike: {moved} pixels changed");
