@@ -16,6 +16,9 @@ pub trait BoxSource: Sync {
     /// Calls `f` with the index and box of every box in `range`, in order.
     fn for_each_in(&self, range: Range<usize>, f: impl FnMut(usize, Aabb));
 
+    /// The box with this index (`index < len()`).
+    fn get(&self, index: usize) -> Aabb;
+
     /// True when there are no boxes.
     fn is_empty(&self) -> bool {
         self.len() == 0
@@ -33,6 +36,11 @@ impl BoxSource for [Aabb] {
         for (k, &aabb) in self[range].iter().enumerate() {
             f(first + k, aabb);
         }
+    }
+
+    #[inline]
+    fn get(&self, index: usize) -> Aabb {
+        self[index]
     }
 }
 
@@ -105,6 +113,13 @@ impl BoxSource for BodyColumns<'_> {
             }
         }
     }
+
+    #[inline]
+    fn get(&self, index: usize) -> Aabb {
+        let (table, row) = self.locate(index);
+        let (_, _, positions, halves) = self.tables[table];
+        Aabb::new(positions[row].0, halves[row].0)
+    }
 }
 
 #[cfg(test)]
@@ -128,6 +143,7 @@ mod tests {
         let mut seen = Vec::new();
         columns.for_each_in(1..4, |i, b| seen.push((i, b.min.x)));
         assert_eq!(seen, [(1, 0.0), (2, 1.0), (3, 2.0)]);
+        assert_eq!(columns.get(3).min.x, 2.0);
         assert_eq!(columns.body(3), (BodyId(3), entities[3]));
     }
 }

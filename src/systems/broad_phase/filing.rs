@@ -39,42 +39,34 @@ impl FiledChunk {
 /// Noted for a box that covers more than one cell.
 const SEVERAL_CELLS: u32 = u32::MAX;
 
-/// The lower y–z corners of a chunk of boxes: their bounds, and the corners
-/// and extents of the boxes whose index is a multiple of the sampling
-/// stride.
-#[derive(Clone, Debug, Default)]
-pub struct CornerSample {
-    /// Least corner, per axis.
-    pub lo: Vec2,
-    /// Greatest corner, per axis.
-    pub hi: Vec2,
-    /// The sampled boxes, in input order.
-    pub sample: Vec<SampledBox>,
+/// Kernel: the corners and extents of the boxes in `range` whose index is
+/// a multiple of `stride` (so the sample does not depend on how the boxes
+/// are cut into chunks). Reads only those boxes.
+pub fn corner_sample<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>, stride: usize) -> Vec<SampledBox> {
+    let stride = stride.max(1);
+    // The first multiple of `stride` in the range.
+    let first = range.start.div_ceil(stride) * stride;
+    (first..range.end)
+        .step_by(stride)
+        .map(|i| {
+            let b = boxes.get(i);
+            SampledBox {
+                corner: Vec2::new(b.min.y, b.min.z),
+                extent: Vec2::new(b.max.y - b.min.y, b.max.z - b.min.z),
+            }
+        })
+        .collect()
 }
 
-/// Kernel: the bounds of the lower y–z corners of the boxes in `range`, and
-/// the corners and extents of the boxes whose index is a multiple of
-/// `stride` (so the sample does not depend on how the boxes are cut into
-/// chunks).
-pub fn corner_sample<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>, stride: usize) -> CornerSample {
-    let stride = stride.max(1);
+/// Kernel: the bounds of the lower y–z corners of the boxes in `range`.
+pub fn corner_bounds<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>) -> (Vec2, Vec2) {
     let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
-    let mut sample = Vec::with_capacity(range.len() / stride + 1);
-    // The first multiple of `stride` in the range (no division per box).
-    let mut next = range.start.div_ceil(stride) * stride;
-    boxes.for_each_in(range, |i, b| {
+    boxes.for_each_in(range, |_, b| {
         let corner = Vec2::new(b.min.y, b.min.z);
         lo = lo.min(corner);
         hi = hi.max(corner);
-        if i == next {
-            sample.push(SampledBox {
-                corner,
-                extent: Vec2::new(b.max.y - b.min.y, b.max.z - b.min.z),
-            });
-            next += stride;
-        }
     });
-    CornerSample { lo, hi, sample }
+    (lo, hi)
 }
 
 /// Kernel: files the boxes in `range` under every cell they cover (a stable

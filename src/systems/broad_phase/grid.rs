@@ -44,12 +44,14 @@ pub struct Grid {
 }
 
 /// The span of the bulk of the corners on one axis: from the sample's
-/// [`OUTSIDE_SHARE`] quantile to its `1 − OUTSIDE_SHARE` quantile, within
-/// the true bounds `lo..=hi`. With a small sample, the true bounds.
-fn bulk_span(values: &mut [f32], lo: f32, hi: f32) -> (f32, f32) {
+/// [`OUTSIDE_SHARE`] quantile to its `1 − OUTSIDE_SHARE` quantile (within
+/// the true bounds, as the sample is drawn from the corners). `None` for a
+/// sample too small to leave any corner outside (then it is every box) or
+/// one with non-finite corners: the true bounds are the span.
+fn bulk_span(values: &mut [f32]) -> Option<(f32, f32)> {
     let outside = (values.len() as f64 * OUTSIDE_SHARE) as usize;
     if outside == 0 {
-        return (lo, hi);
+        return None;
     }
     // Two selections, not a sort: linear in the sample.
     let last = values.len() - 1;
@@ -57,24 +59,28 @@ fn bulk_span(values: &mut [f32], lo: f32, hi: f32) -> (f32, f32) {
     let q_lo = *values[..last - outside]
         .select_nth_unstable_by(outside, f32::total_cmp)
         .1;
-    if q_lo.is_finite() && q_hi.is_finite() && q_lo <= q_hi {
-        (q_lo.max(lo), q_hi.min(hi))
-    } else {
-        (lo, hi)
-    }
+    (q_lo.is_finite() && q_hi.is_finite() && q_lo <= q_hi).then_some((q_lo, q_hi))
 }
 
 impl Grid {
-    /// A grid for `count` boxes whose lower y–z corners lie in `lo..=hi`,
-    /// fitted to the bulk of `sample` (boxes drawn evenly from them):
-    /// boxes beyond it share the edge cells; and no finer than the sampled
-    /// boxes cover [`MAX_CELLS_PER_BOX`] cells on average.
-    pub fn fit_to_bulk(lo: Vec2, hi: Vec2, sample: &[SampledBox], count: usize) -> Self {
+    /// A grid for `count` boxes, fitted to the bulk of `sample` (boxes
+    /// drawn evenly from them): boxes beyond it share the edge cells; and
+    /// no finer than the sampled boxes cover [`MAX_CELLS_PER_BOX`] cells on
+    /// average. `bounds` gives the true bounds of all lower y–z corners,
+    /// asked for only where the sample cannot place the grid alone (a few
+    /// boxes, all of them sampled; non-finite corners).
+    pub fn fit_to_bulk(sample: &[SampledBox], count: usize, bounds: impl FnOnce() -> (Vec2, Vec2)) -> Self {
         let mut ys: Vec<f32> = sample.iter().map(|b| b.corner.x).collect();
         let mut zs: Vec<f32> = sample.iter().map(|b| b.corner.y).collect();
-        let (y_lo, y_hi) = bulk_span(&mut ys, lo.x, hi.x);
-        let (z_lo, z_hi) = bulk_span(&mut zs, lo.y, hi.y);
-        let (lo, hi) = (Vec2::new(y_lo, z_lo), Vec2::new(y_hi, z_hi));
+        let (lo, hi) = match (bulk_span(&mut ys), bulk_span(&mut zs)) {
+            (Some((y_lo, y_hi)), Some((z_lo, z_hi))) => (Vec2::new(y_lo, z_lo), Vec2::new(y_hi, z_hi)),
+            (y, z) => {
+                let (lo, hi) = bounds();
+                let (y_lo, y_hi) = y.unwrap_or((lo.x, hi.x));
+                let (z_lo, z_hi) = z.unwrap_or((lo.y, hi.y));
+                (Vec2::new(y_lo, z_lo), Vec2::new(y_hi, z_hi))
+            }
+        };
         let mut grid = Self::fit(lo, hi, count);
         while grid.cells_per_axis > 1 && grid.mean_cells(sample) > MAX_CELLS_PER_BOX {
             grid = Self::with_cells(lo, hi, grid.cells_per_axis / 2);
@@ -215,7 +221,7 @@ mod tests {
                 extent: Vec2::splat(0.1),
             })
             .collect();
-        let grid = Grid::fit_to_bulk(lo, hi, &sample, corners.len());
+        let grid = Grid::fit_to_bulk(&sample, corners.len(), || (lo, hi));
         let mut per_cell = vec![0usize; grid.cell_count()];
         for c in &corners {
             per_cell[grid.cell(c.x, c.y) as usize] += 1;
@@ -235,6 +241,32 @@ mod tests {
         assert!(per_cell.iter().max().copied().unwrap_or(0) > 9000);
     }
 
+    /// The sample places the grid alone (no pass over every box for their
+    /// bounds) except where it is too small to leave a corner outside,
+    /// which is where it holds every box; then the bounds are the sample's.
+    #[test]
+    fn the_true_bounds_are_read_only_for_a_few_boxes() {
+        let mut rng = crate::rng::Rng::new(9);
+        for count in [1usize, 50, 199, 200, 10_000, 1_000_000] {
+            let stride = count / GRID_SAMPLES + 1;
+            let sample: Vec<SampledBox> = (0..count.div_ceil(stride))
+                .map(|_| SampledBox {
+                    corner: Vec2::new(rng.range(0.0, 10.0) as f32, rng.range(-5.0, 5.0) as f32),
+                    extent: Vec2::splat(0.01),
+                })
+                .collect();
+            let (lo, hi) = sample.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(l, h), b| {
+                (l.min(b.corner), h.max(b.corner))
+            });
+            let mut asked = false;
+            Grid::fit_to_bulk(&sample, count, || {
+                asked = true;
+                (lo, hi)
+            });
+            assert_eq!(asked, count < 200, "{count} boxes");
+        }
+    }
+
     /// Boxes piled near one point, or far larger than their spacing, would
     /// each cover up to 256² cells of a grid fitted to their corners alone.
     #[test]
@@ -252,7 +284,7 @@ mod tests {
             fine.mean_cells(&sample) > 1000.0,
             "the corners alone ask for a fine grid"
         );
-        let grid = Grid::fit_to_bulk(lo, hi, &sample, 1_000_000);
+        let grid = Grid::fit_to_bulk(&sample, 1_000_000, || (lo, hi));
         assert!(
             grid.mean_cells(&sample) <= MAX_CELLS_PER_BOX,
             "{}",

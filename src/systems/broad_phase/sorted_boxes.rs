@@ -7,7 +7,7 @@ use std::sync::{Mutex, PoisonError};
 use bevy::prelude::*;
 
 use super::BoxSource;
-use super::filing::{FiledChunk, corner_sample, file_by_cell};
+use super::filing::{FiledChunk, corner_bounds, corner_sample, file_by_cell};
 use super::grid::{GRID_SAMPLES, Grid, SampledBox};
 use super::ordering::{CellOrder, order_cells};
 use crate::execution::StageExecution;
@@ -69,16 +69,22 @@ impl SortedBoxes {
 /// then the ordering of each cell on x, each step whole or in chunks as
 /// `stage` says.
 pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
-    // The bounds of the corners, and an even sample of them to fit the
-    // grid to their bulk: a few far-flung boxes must not stretch it.
+    // An even sample of the corners to fit the grid to their bulk: a few
+    // far-flung boxes must not stretch it. Their true bounds only where
+    // the sample cannot place the grid alone.
     let stride = boxes.len() / GRID_SAMPLES + 1;
-    let samples = stage.map_chunks(0..boxes.len(), |range| corner_sample(boxes, range, stride));
-    let (lo, hi) = samples.iter().fold(
-        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
-        |(lo, hi), s| (lo.min(s.lo), hi.max(s.hi)),
-    );
-    let sample: Vec<SampledBox> = samples.into_iter().flat_map(|s| s.sample).collect();
-    let grid = Grid::fit_to_bulk(lo, hi, &sample, boxes.len());
+    let sample: Vec<SampledBox> = stage
+        .map_chunks(0..boxes.len(), |range| corner_sample(boxes, range, stride))
+        .concat();
+    let grid = Grid::fit_to_bulk(&sample, boxes.len(), || {
+        stage
+            .map_chunks(0..boxes.len(), |range| corner_bounds(boxes, range))
+            .into_iter()
+            .fold(
+                (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
+                |(lo, hi), (l, h)| (lo.min(l), hi.max(h)),
+            )
+    });
     let chunks = Spare::new(&mut sorted.spare_chunks, &mut sorted.chunks);
     sorted.chunks = stage.map_chunks(0..boxes.len(), |range| file_by_cell(boxes, range, &grid, chunks.take()));
     sorted.spare_chunks = chunks.into_inner();
