@@ -323,9 +323,9 @@ fn window_shows_the_planet_and_the_bodies() {
 
 /// The thesis scene, 10 000 unit cubes about 2 500 units from the camera,
 /// reads as a cloud: each body keeps a least size on screen, so a tenth of
-/// the view outside the panel and the HUD is lit by bodies (sub-pixel dots lit under half
-/// a percent), while the stars alone, smaller and dimmer than any body,
-/// light under one percent and never brightly.
+/// the view outside the panel and the HUD is lit by bodies (sub-pixel dots
+/// lit under half a percent), while the stars alone, smaller and dimmer
+/// than any body, light under one percent and never brightly.
 #[test]
 fn the_thesis_cloud_reads_as_a_cloud_and_the_stars_stay_dim() {
     if !window_available("the_thesis_cloud_reads_as_a_cloud_and_the_stars_stay_dim") {
