@@ -11,7 +11,7 @@ pub const BOXES_PER_CELL: usize = 64;
 const MAX_CELLS_PER_AXIS: usize = 256;
 
 /// Corners sampled to place the grid.
-pub const GRID_SAMPLES: usize = 4096;
+pub const GRID_SAMPLES: usize = 1024;
 
 /// Share of the sampled corners left outside the grid at each end of an
 /// axis: far-flung bodies (escaped fragments) are clamped into the edge

@@ -32,33 +32,35 @@ pub fn gather_cell<'a>(filed: &'a [FiledChunk], cell: usize, scratch: &'a mut Ve
     }
 }
 
-/// The sweep order of a range of cells: for cell `cells.start + c`, the
-/// positions (into the cell's gathered boxes) `order[starts[c]..starts[c + 1]]`.
+/// A range of cells with their boxes in sweep order: for cell
+/// `cells.start + c`, `boxes[starts[c]..starts[c + 1]]`. A copy, so that
+/// the sweep reads each cell's boxes in order, in one piece.
 #[derive(Default)]
 pub struct CellOrder {
     /// The cells this part covers.
     pub cells: Range<usize>,
     starts: Vec<u32>,
-    order: Vec<u32>,
+    boxes: Vec<CellBox>,
 }
 
 impl CellOrder {
-    /// Positions of `cell`'s boxes in sweep order (`cell` in [`Self::cells`]).
+    /// `cell`'s boxes in sweep order (`cell` in [`Self::cells`]).
     #[inline]
-    pub fn of(&self, cell: usize) -> &[u32] {
+    pub fn of(&self, cell: usize) -> &[CellBox] {
         let c = cell - self.cells.start;
-        &self.order[self.starts[c] as usize..self.starts[c + 1] as usize]
+        &self.boxes[self.starts[c] as usize..self.starts[c + 1] as usize]
     }
 }
 
-/// Kernel: the sweep order of every cell in `cells`, into the reused `out`.
+/// Kernel: every cell in `cells` with its boxes in sweep order, into the
+/// reused `out`.
 /// A cell's sort keys put the order key of the lower x bound above the
 /// position, so ties keep input order.
 pub fn order_cells(filed: &[FiledChunk], cells: Range<usize>, mut out: CellOrder) -> CellOrder {
     let mut gathered = Vec::new();
     let mut keys: Vec<u64> = Vec::new();
     out.starts.clear();
-    out.order.clear();
+    out.boxes.clear();
     out.starts.push(0);
     for cell in cells.clone() {
         let boxes = gather_cell(filed, cell, &mut gathered);
@@ -70,8 +72,8 @@ pub fn order_cells(filed: &[FiledChunk], cells: Range<usize>, mut out: CellOrder
                 .map(|(k, b)| (u64::from(order_key(b.aabb.min.x)) << 32) | k as u64),
         );
         keys.sort_unstable();
-        out.order.extend(keys.iter().map(|&key| key as u32));
-        out.starts.push(out.order.len() as u32);
+        out.boxes.extend(keys.iter().map(|&key| boxes[key as u32 as usize]));
+        out.starts.push(out.boxes.len() as u32);
     }
     out.cells = cells;
     out
@@ -106,9 +108,7 @@ mod tests {
         ];
         for filed in [whole.as_slice(), split.as_slice()] {
             let order = order_cells(filed, 0..1, CellOrder::default());
-            let mut scratch = Vec::new();
-            let cell = gather_cell(filed, 0, &mut scratch);
-            let indices: Vec<u32> = order.of(0).iter().map(|&k| cell[k as usize].index).collect();
+            let indices: Vec<u32> = order.of(0).iter().map(|b| b.index).collect();
             assert_eq!(indices, [4, 1, 3, 2, 0]);
         }
     }

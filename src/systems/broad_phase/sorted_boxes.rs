@@ -13,11 +13,11 @@ use super::ordering::{CellOrder, order_cells};
 use crate::execution::StageExecution;
 
 /// The sort stage's result: the grid, one `FiledChunk` per chunk of
-/// boxes in input order, and the sweep order of every cell in parts of
+/// boxes in input order, and every cell's boxes in sweep order in parts of
 /// contiguous cells (one of each when the stage ran whole). Its buffers are
 /// kept and reused by the next sort, so that a million boxes do not fault
-/// in fresh pages every update: about 32 bytes per box (a box is filed
-/// once per cell it covers, mostly one).
+/// in fresh pages every update: about 60 bytes per box (a box is filed
+/// once per cell it covers, mostly one, and copied once in sweep order).
 #[derive(Resource, Default)]
 pub struct SortedBoxes {
     grid: Option<Grid>,
@@ -41,8 +41,8 @@ impl SortedBoxes {
         &self.chunks
     }
 
-    /// The sweep order of the cells, in parts of contiguous cells, in cell
-    /// order.
+    /// The cells' boxes in sweep order, in parts of contiguous cells, in
+    /// cell order.
     pub fn orders(&self) -> &[CellOrder] {
         &self.orders
     }
@@ -86,7 +86,7 @@ pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, s
             )
     });
     let chunks = Spare::new(&mut sorted.spare_chunks, &mut sorted.chunks);
-    sorted.chunks = stage.map_chunks(0..boxes.len(), |range| file_by_cell(boxes, range, &grid, chunks.take()));
+    sorted.chunks = stage.map_even_chunks(0..boxes.len(), |range| file_by_cell(boxes, range, &grid, chunks.take()));
     sorted.spare_chunks = chunks.into_inner();
     let orders = Spare::new(&mut sorted.spare_orders, &mut sorted.orders);
     let filed = &sorted.chunks;
