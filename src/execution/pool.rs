@@ -294,19 +294,6 @@ impl StageExecution<'_> {
         self.map_in(data, CHUNKS_PER_THREAD, kernel)
     }
 
-    /// Like [`map_chunks`](Self::map_chunks), in one chunk per thread: for
-    /// items that cost alike, whose results are read per chunk afterwards
-    /// (the broad phase's filing: every cell reads its boxes from every
-    /// chunk), so that fewer chunks save more than the finer balance gains.
-    pub fn map_even_chunks<S, R, K>(&self, data: S, kernel: K) -> Vec<R>
-    where
-        S: Split,
-        R: Send,
-        K: Fn(S) -> R + Sync,
-    {
-        self.map_in(data, 1, kernel)
-    }
-
     /// Like [`map_chunks`](Self::map_chunks), in `UNEVEN_CHUNKS_PER_THREAD`
     /// smaller chunks per thread: for items that cost unevenly and much
     /// each (the gravity tree's regions and groups), so that no thread

@@ -34,6 +34,17 @@ impl FiledChunk {
     pub fn in_cell(&self, cell: usize) -> &[CellBox] {
         &self.boxes[self.starts[cell] as usize..self.starts[cell + 1] as usize]
     }
+
+    /// Calls `f` with the chunk's boxes in every cell, cell after cell, to
+    /// be reordered in place.
+    pub fn for_each_cell_mut(&mut self, mut f: impl FnMut(&mut [CellBox])) {
+        let mut rest = self.boxes.as_mut_slice();
+        for run in self.starts.windows(2) {
+            let (cell, after) = rest.split_at_mut((run[1] - run[0]) as usize);
+            f(cell);
+            rest = after;
+        }
+    }
 }
 
 /// Noted for a box that covers more than one cell.

@@ -10,9 +10,10 @@
 //!    [`SortPlugin`](crate::systems::SortPlugin)): the boxes are filed under every cell their y–z extent
 //!    covers by a counting sort that reads the bodies' columns in order,
 //!    twice (count, then place), and never gathers at random; then each
-//!    cell's boxes are ordered by their lower x bound (ties by input order,
-//!    so the order is one fixed permutation) and copied in that order, so
-//!    that the sweep reads each cell in one piece.
+//!    cell's boxes are put in order by their lower x bound (ties by input
+//!    order, so the order is one fixed permutation): where they lie when
+//!    the stage runs whole, copied in that order when it is split; either
+//!    way the sweep reads each cell in one piece, in order.
 //! 2. **Sweep** (`sweep_pairs.rs`; stage
 //!    [`SweepPlugin`](crate::systems::SweepPlugin)): in each cell, each box
 //!    scans forward while the next box starts before it ends on x,
@@ -22,11 +23,11 @@
 //!    big box (the planet) joins the cells it covers and scans only the
 //!    boxes inside its x-slab there, so the cost stays near-linear.
 //!
-//! In parallel, contiguous ranges of boxes are filed by their own chunk
-//! (one per thread), and contiguous ranges of cells are ordered, and then
-//! swept, by their own chunk; the ordering reads a cell's boxes chunk after
-//! chunk, which is input order again, and the pairs are concatenated in
-//! cell order: the same pairs in the same order as one sequential pass.
+//! In parallel, contiguous ranges of boxes are filed by their own chunk,
+//! and contiguous ranges of cells are ordered, and then swept, by their own
+//! chunk; the ordering reads a cell's boxes chunk after chunk, which is
+//! input order again, and the pairs are concatenated in cell order: the
+//! same pairs in the same order as one sequential pass.
 
 mod aabb;
 mod boxes;

@@ -53,9 +53,7 @@ impl CellOrder {
 }
 
 /// Kernel: every cell in `cells` with its boxes in sweep order, into the
-/// reused `out`.
-/// A cell's sort keys put the order key of the lower x bound above the
-/// position, so ties keep input order.
+/// reused `out`, for boxes filed in several chunks.
 pub fn order_cells(filed: &[FiledChunk], cells: Range<usize>, mut out: CellOrder) -> CellOrder {
     let mut gathered = Vec::new();
     let mut keys: Vec<u64> = Vec::new();
@@ -64,19 +62,38 @@ pub fn order_cells(filed: &[FiledChunk], cells: Range<usize>, mut out: CellOrder
     out.starts.push(0);
     for cell in cells.clone() {
         let boxes = gather_cell(filed, cell, &mut gathered);
-        keys.clear();
-        keys.extend(
-            boxes
-                .iter()
-                .enumerate()
-                .map(|(k, b)| (u64::from(order_key(b.aabb.min.x)) << 32) | k as u64),
-        );
-        keys.sort_unstable();
+        sweep_keys(boxes, &mut keys);
         out.boxes.extend(keys.iter().map(|&key| boxes[key as u32 as usize]));
         out.starts.push(out.boxes.len() as u32);
     }
     out.cells = cells;
     out
+}
+
+/// Kernel: every cell of the one `filed` chunk put in sweep order where it
+/// lies, for boxes filed in one chunk (the stage ran whole): no copy.
+pub fn order_in_place(filed: &mut FiledChunk) {
+    let (mut keys, mut ordered) = (Vec::new(), Vec::new());
+    filed.for_each_cell_mut(|boxes| {
+        sweep_keys(boxes, &mut keys);
+        ordered.clear();
+        ordered.extend(keys.iter().map(|&key| boxes[key as u32 as usize]));
+        boxes.copy_from_slice(&ordered);
+    });
+}
+
+/// The sweep order of one cell's `boxes` as sorted keys, into `keys`: the
+/// order key of the lower x bound above the position, so ties keep input
+/// order; the low 32 bits of each are the box's position.
+fn sweep_keys(boxes: &[CellBox], keys: &mut Vec<u64>) {
+    keys.clear();
+    keys.extend(
+        boxes
+            .iter()
+            .enumerate()
+            .map(|(k, b)| (u64::from(order_key(b.aabb.min.x)) << 32) | k as u64),
+    );
+    keys.sort_unstable();
 }
 
 #[cfg(test)]
@@ -111,5 +128,10 @@ mod tests {
             let indices: Vec<u32> = order.of(0).iter().map(|b| b.index).collect();
             assert_eq!(indices, [4, 1, 3, 2, 0]);
         }
+        // One chunk is put in the same order where it lies.
+        let [mut only] = whole;
+        order_in_place(&mut only);
+        let indices: Vec<u32> = only.in_cell(0).iter().map(|b| b.index).collect();
+        assert_eq!(indices, [4, 1, 3, 2, 0]);
     }
 }

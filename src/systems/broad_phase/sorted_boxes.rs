@@ -7,21 +7,25 @@ use std::sync::{Mutex, PoisonError};
 use bevy::prelude::*;
 
 use super::BoxSource;
+use super::filing::CellBox;
 use super::filing::{FiledChunk, corner_bounds, corner_sample, file_by_cell};
 use super::grid::{GRID_SAMPLES, Grid, SampledBox};
-use super::ordering::{CellOrder, order_cells};
+use super::ordering::{CellOrder, order_cells, order_in_place};
 use crate::execution::StageExecution;
 
-/// The sort stage's result: the grid, one `FiledChunk` per chunk of
-/// boxes in input order, and every cell's boxes in sweep order in parts of
-/// contiguous cells (one of each when the stage ran whole). Its buffers are
-/// kept and reused by the next sort, so that a million boxes do not fault
-/// in fresh pages every update: about 60 bytes per box (a box is filed
-/// once per cell it covers, mostly one, and copied once in sweep order).
+/// The sort stage's result: the grid and every cell's boxes in sweep
+/// order. Run whole, the stage files the boxes in one `FiledChunk` and
+/// orders each cell there, in place; split, it files one chunk per chunk
+/// of boxes and copies each cell's boxes in order into parts of contiguous
+/// cells. Its buffers are kept and reused by the next sort, so that a
+/// million boxes do not fault in fresh pages every update: about 32 bytes
+/// per box run whole, 60 split (a box is filed once per cell it covers,
+/// mostly one).
 #[derive(Resource, Default)]
 pub struct SortedBoxes {
     grid: Option<Grid>,
     chunks: Vec<FiledChunk>,
+    /// Empty where the one filed chunk was ordered in place.
     orders: Vec<CellOrder>,
     /// Buffers the last sort did not need.
     spare_chunks: Vec<FiledChunk>,
@@ -36,15 +40,20 @@ impl SortedBoxes {
         self.grid.as_ref()
     }
 
-    /// The filed chunks, in input order.
-    pub fn chunks(&self) -> &[FiledChunk] {
-        &self.chunks
-    }
-
-    /// The cells' boxes in sweep order, in parts of contiguous cells, in
-    /// cell order.
-    pub fn orders(&self) -> &[CellOrder] {
-        &self.orders
+    /// `cell`'s boxes in sweep order. `part` is where to start looking for
+    /// the part of the copy that holds it (0, or the last cell's, for
+    /// cells asked for in order).
+    #[inline]
+    pub fn in_sweep_order(&self, cell: usize, part: &mut usize) -> &[CellBox] {
+        match (self.orders.as_slice(), self.chunks.as_slice()) {
+            ([], [only]) => only.in_cell(cell),
+            (orders, _) => {
+                while orders[*part].cells.end <= cell {
+                    *part += 1;
+                }
+                orders[*part].of(cell)
+            }
+        }
     }
 
     /// Number of boxes sorted.
@@ -86,12 +95,17 @@ pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, s
             )
     });
     let chunks = Spare::new(&mut sorted.spare_chunks, &mut sorted.chunks);
-    sorted.chunks = stage.map_even_chunks(0..boxes.len(), |range| file_by_cell(boxes, range, &grid, chunks.take()));
+    sorted.chunks = stage.map_chunks(0..boxes.len(), |range| file_by_cell(boxes, range, &grid, chunks.take()));
     sorted.spare_chunks = chunks.into_inner();
-    let orders = Spare::new(&mut sorted.spare_orders, &mut sorted.orders);
-    let filed = &sorted.chunks;
-    sorted.orders = stage.map_chunks(0..grid.cell_count(), |cells| order_cells(filed, cells, orders.take()));
-    sorted.spare_orders = orders.into_inner();
+    if let [only] = sorted.chunks.as_mut_slice() {
+        order_in_place(only);
+        sorted.spare_orders.append(&mut sorted.orders);
+    } else {
+        let orders = Spare::new(&mut sorted.spare_orders, &mut sorted.orders);
+        let filed = &sorted.chunks;
+        sorted.orders = stage.map_chunks(0..grid.cell_count(), |cells| order_cells(filed, cells, orders.take()));
+        sorted.spare_orders = orders.into_inner();
+    }
     sorted.grid = Some(grid);
     sorted.len = boxes.len();
 }

@@ -69,14 +69,9 @@ impl PairBudget {
 /// before it ends on x. `None` once the sweep's pairs exceed the budget.
 fn sweep_cells(sorted: &SortedBoxes, grid: &Grid, cells: Range<usize>, budget: &PairBudget) -> Option<Vec<(u32, u32)>> {
     let mut pairs = Vec::new();
-    let orders = sorted.orders();
-    // The part of the order holding the first cell; later cells follow.
-    let mut part = orders.partition_point(|o| o.cells.end <= cells.start);
+    let mut part = 0;
     for cell in cells {
-        while orders[part].cells.end <= cell {
-            part += 1;
-        }
-        let boxes = orders[part].of(cell);
+        let boxes = sorted.in_sweep_order(cell, &mut part);
         for (k, a) in boxes.iter().enumerate() {
             for b in &boxes[k + 1..] {
                 if b.aabb.min.x > a.aabb.max.x {
