@@ -12,6 +12,7 @@ pub mod dump;
 pub mod ensemble;
 pub mod events;
 pub mod execution;
+pub mod heap;
 pub mod input;
 pub mod maths;
 pub mod memory_limit;

@@ -1,5 +1,7 @@
-//! The `kessler` binary: everything is in the library; see `cli::main`.
+//! The `kessler` binary: everything is in the library; see `heap` and
+//! `cli::main`.
 
 fn main() -> std::process::ExitCode {
+    kessler::heap::hand_back_big_blocks();
     kessler::cli::main()
 }

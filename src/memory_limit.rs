@@ -9,8 +9,8 @@
 use std::fmt;
 
 /// Memory one body may take at a run's peak, in bytes: the ECS's
-/// components and entity (about 180 bytes), the broad phase's copies
-/// (about 35), and room for a table that doubles as it grows (measured:
+/// components and entity (about 180 bytes), the broad phase's filing
+/// (about 32), and room for a table that doubles as it grows (measured:
 /// 224–242 bytes a body of peak resident memory while shattering grew a
 /// cloud to 1 and 4 million bodies; address space runs higher).
 pub const BYTES_PER_BODY: u64 = 500;

@@ -23,6 +23,26 @@ pub fn spawn_bodies(world: &mut World, bodies: &[BodyState]) -> u64 {
     next
 }
 
+/// Bodies moved into the world at a time by [`spawn_owned_bodies`].
+const SPAWN_BATCH: usize = 1 << 16;
+
+/// Spawns `bodies` as [`spawn_bodies`] does, in the same order, handing
+/// their memory back a batch at a time as they move into the world, so
+/// that a million bodies are never held twice (64 bytes a body).
+pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 {
+    let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
+    // The first bodies last, so that each batch comes off the end.
+    bodies.reverse();
+    while !bodies.is_empty() {
+        let mut batch = bodies.split_off(bodies.len().saturating_sub(SPAWN_BATCH));
+        batch.reverse();
+        spawn_states(world, &batch);
+        bodies.shrink_to_fit();
+    }
+    world.insert_resource(NextBodyId(next));
+    next
+}
+
 /// A headless simulation.
 pub struct Simulation {
     app: App,
@@ -31,20 +51,28 @@ pub struct Simulation {
 impl Simulation {
     /// A simulation of `bodies` (ids must be unique) with `settings`.
     pub fn new(bodies: &[BodyState], settings: SimulationSettings, execution: Execution) -> Self {
+        let mut sim = Self::without_bodies(settings, execution);
+        spawn_bodies(sim.app.world_mut(), bodies);
+        sim
+    }
+
+    /// The app with no bodies yet.
+    fn without_bodies(settings: SimulationSettings, execution: Execution) -> Self {
         let mut app = App::new();
         app.add_plugins((MinimalPlugins, SimulationPlugins, EventsPlugin))
             .insert_resource(settings)
             .insert_resource(execution);
         app.finish();
         app.cleanup();
-        spawn_bodies(app.world_mut(), bodies);
         Self { app }
     }
 
     /// The bodies and settings of `scenario`; fresh ids continue from its
     /// `next_id` (a snapshot's).
     pub fn from_scenario(scenario: &Scenario, execution: Execution) -> Result<Self, InputError> {
-        let mut sim = Self::new(&scenario.bodies()?, scenario.settings(), execution);
+        let bodies = scenario.bodies()?;
+        let mut sim = Self::without_bodies(scenario.settings(), execution);
+        spawn_owned_bodies(sim.app.world_mut(), bodies);
         let mut next = sim.app.world_mut().resource_mut::<NextBodyId>();
         next.0 = next.0.max(scenario.next_id());
         install_events(sim.app.world_mut(), scenario);
@@ -138,12 +166,27 @@ impl Simulation {
         bodies
     }
 
-    /// The hash of the state now (its bodies and next id).
+    /// The hash of the state now (its bodies and next id), reading each
+    /// body where it lies: 16 bytes a body, not a copy of the state.
     pub fn state_hash(&mut self) -> StateHash {
         let next_id = self.next_body_id();
         let world = self.app.world_mut();
-        let mut query = world.query::<BodyStateQuery>();
-        StateHash::of(query.iter(world).map(BodyState::from_components), next_id)
+        let bodies: Vec<(u64, Entity)> = world
+            .query::<(Entity, &BodyId)>()
+            .iter(world)
+            .map(|(entity, id)| (id.0, entity))
+            .collect();
+        let query = world.query::<BodyStateQuery>();
+        let world = &*world;
+        StateHash::of_indexed(
+            bodies.len(),
+            next_id,
+            |i| bodies[i].0,
+            |i| {
+                let found = query.get_manual(world, bodies[i].1);
+                BodyState::from_components(found.expect("the entity was just listed as a body"))
+            },
+        )
     }
 
     /// Mass, kinetic energy and momentum of all bodies now.

@@ -29,9 +29,7 @@ const CHUNK: usize = 4096;
 
 impl StateHash {
     /// The hash of `bodies` in any order (ids unique) and the next id:
-    /// each body's bytes put together as it comes, then taken in id order
-    /// without sorting where the ids are dense (below four times the
-    /// count, as fresh ids keep them), else through a sorted list of ids.
+    /// each body's bytes put together as it comes, then taken in id order.
     pub fn of<B: Borrow<BodyState>>(bodies: impl IntoIterator<Item = B>, next_id: u64) -> Self {
         let bodies = bodies.into_iter();
         let count = bodies.size_hint().0;
@@ -43,29 +41,92 @@ impl StateHash {
             ids.push(body.id.0);
             packed.push(bytes);
         }
-        let dense = ids.len().saturating_mul(4).max(64) as u64;
-        let order: Vec<u32> = if next_id <= dense && ids.iter().all(|&id| id < next_id) {
-            let mut at = vec![u32::MAX; next_id as usize];
-            for (i, &id) in ids.iter().enumerate() {
-                at[id as usize] = i as u32;
-            }
-            at.into_iter().filter(|&i| i != u32::MAX).collect()
-        } else {
-            let mut by_id: Vec<(u64, u32)> = ids.iter().enumerate().map(|(i, &id)| (id, i as u32)).collect();
-            by_id.sort_unstable();
-            by_id.into_iter().map(|(_, i)| i).collect()
-        };
-        let mut hasher = XxHash64::with_seed(0);
-        let mut buffer = Vec::with_capacity(BODY_BYTES * CHUNK);
-        for chunk in order.chunks(CHUNK) {
-            buffer.clear();
-            for &i in chunk {
-                buffer.extend_from_slice(&packed[i as usize]);
-            }
-            hasher.write(&buffer);
+        let mut feed = Feed::new();
+        for i in id_order(ids.len(), next_id, |i| ids[i]) {
+            feed.add(&packed[i as usize]);
         }
-        hasher.write(&next_id.to_le_bytes());
-        Self(hasher.finish())
+        feed.finish(next_id)
+    }
+
+    /// The hash of `count` bodies (ids unique) that `id` and `body` give
+    /// by index, in any order, reading each body once, in id order: no copy
+    /// of the state, only its order (4 bytes a body; none where the ids
+    /// already come in order).
+    pub fn of_indexed(
+        count: usize,
+        next_id: u64,
+        id: impl Fn(usize) -> u64,
+        mut body: impl FnMut(usize) -> BodyState,
+    ) -> Self {
+        let mut feed = Feed::new();
+        let mut put = |i: usize| {
+            let mut bytes = [0u8; BODY_BYTES];
+            put_body(&mut bytes, &body(i));
+            feed.add(&bytes);
+        };
+        if (1..count).all(|i| id(i - 1) < id(i)) {
+            (0..count).for_each(&mut put);
+        } else {
+            for i in id_order(count, next_id, &id) {
+                put(i as usize);
+            }
+        }
+        feed.finish(next_id)
+    }
+
+    /// The hash of `bodies` in any order (ids unique) and the next id,
+    /// read where they lie (see [`of_indexed`](Self::of_indexed)).
+    pub fn of_slice(bodies: &[BodyState], next_id: u64) -> Self {
+        Self::of_indexed(bodies.len(), next_id, |i| bodies[i].id.0, |i| bodies[i])
+    }
+}
+
+/// The indices of `count` bodies in id order, given each one's `id`:
+/// without sorting where the ids are dense (below four times the count,
+/// as fresh ids keep them), else through a sorted list of ids.
+fn id_order(count: usize, next_id: u64, id: impl Fn(usize) -> u64) -> Vec<u32> {
+    let dense = count.saturating_mul(4).max(64) as u64;
+    if next_id <= dense && (0..count).all(|i| id(i) < next_id) {
+        let mut at = vec![u32::MAX; next_id as usize];
+        for i in 0..count {
+            at[id(i) as usize] = i as u32;
+        }
+        at.into_iter().filter(|&i| i != u32::MAX).collect()
+    } else {
+        let mut by_id: Vec<(u64, u32)> = (0..count).map(|i| (id(i), i as u32)).collect();
+        by_id.sort_unstable();
+        by_id.into_iter().map(|(_, i)| i).collect()
+    }
+}
+
+/// The bodies' bytes on their way to xxHash64, [`CHUNK`] bodies a call.
+struct Feed {
+    hasher: XxHash64,
+    buffer: Vec<u8>,
+}
+
+impl Feed {
+    fn new() -> Self {
+        Self {
+            hasher: XxHash64::with_seed(0),
+            buffer: Vec::with_capacity(BODY_BYTES * CHUNK),
+        }
+    }
+
+    /// One body's bytes, in id order.
+    fn add(&mut self, bytes: &[u8; BODY_BYTES]) {
+        self.buffer.extend_from_slice(bytes);
+        if self.buffer.len() == BODY_BYTES * CHUNK {
+            self.hasher.write(&self.buffer);
+            self.buffer.clear();
+        }
+    }
+
+    /// The hash, after the last body and then the next id.
+    fn finish(mut self, next_id: u64) -> StateHash {
+        self.hasher.write(&self.buffer);
+        self.hasher.write(&next_id.to_le_bytes());
+        StateHash(self.hasher.finish())
     }
 }
 
@@ -160,6 +221,47 @@ mod tests {
         h.write(&bytes);
         assert_eq!(StateHash::of(bodies, 9).0, h.finish());
         assert_eq!(StateHash(0xab).to_string(), "00000000000000ab");
+    }
+
+    /// More bodies than one chunk, sorted, shuffled with dense ids and
+    /// with sparse ids: every way in hashes the documented bytes, written
+    /// at once in id order.
+    #[test]
+    fn every_way_in_hashes_the_bodies_in_id_order() {
+        let mut rng = crate::rng::Rng::new(4);
+        for spread in [1u64, 1_000] {
+            let mut bodies: Vec<BodyState> = (0..2 * CHUNK as u64 + 77)
+                .map(|k| BodyState {
+                    position: Vec3::new(rng.range(-9.0, 9.0) as f32, k as f32, 0.5),
+                    ..body(k * spread + 3)
+                })
+                .collect();
+            let next_id = bodies.len() as u64 * spread + 3;
+            let mut bytes = Vec::new();
+            for b in &bodies {
+                let mut one = [0u8; BODY_BYTES];
+                put_body(&mut one, b);
+                bytes.extend(one);
+            }
+            bytes.extend(next_id.to_le_bytes());
+            let mut h = XxHash64::with_seed(0);
+            h.write(&bytes);
+            let expected = StateHash(h.finish());
+            assert_eq!(
+                StateHash::of_slice(&bodies, next_id),
+                expected,
+                "sorted, spread {spread}"
+            );
+            for k in (1..bodies.len()).rev() {
+                bodies.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
+            }
+            assert_eq!(StateHash::of(&bodies, next_id), expected, "shuffled, spread {spread}");
+            assert_eq!(
+                StateHash::of_slice(&bodies, next_id),
+                expected,
+                "shuffled, spread {spread}"
+            );
+        }
     }
 
     /// Every field, every body and the next id change the hash; the

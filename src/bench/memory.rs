@@ -5,34 +5,10 @@
 /// Starts a new peak: memory the allocator keeps from earlier runs goes back
 /// to the system, then the high-water mark drops to what is resident now.
 pub fn reset_peak_memory() {
-    release_free_memory();
+    crate::heap::release_free_memory();
     // Linux ≥ 4.0; on failure the peak simply spans earlier runs too.
     let _ = std::fs::write("/proc/self/clear_refs", "5");
 }
-
-/// Hands freed heap memory back to the system. glibc's allocator keeps what
-/// a million-body run freed; without this, every later run's peak would
-/// count it.
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
-fn release_free_memory() {
-    // SAFETY: `malloc_trim` is glibc's (this function is built for glibc
-    // targets only), takes a plain integer, touches only the allocator's
-    // own free lists under the allocator's lock, and may be called at any
-    // time from any thread; so it is declared `safe`.
-    #[expect(
-        unsafe_code,
-        reason = "the one foreign function the crate calls (glibc's malloc_trim)"
-    )]
-    unsafe extern "C" {
-        /// glibc: returns free memory at the top of the heap and in the
-        /// middle of every arena to the system.
-        safe fn malloc_trim(pad: usize) -> std::ffi::c_int;
-    }
-    malloc_trim(0);
-}
-
-#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
-fn release_free_memory() {}
 
 /// The peak resident set size since the last reset, in bytes.
 pub fn peak_memory() -> Option<u64> {

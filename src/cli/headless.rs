@@ -13,7 +13,6 @@ use crate::execution::{Execution, ExecutionMode, SplitPolicy, WorkerPool, availa
 use crate::output::{Output, WriteError, check_outputs, commit_all, printable, stage};
 use crate::resources::MemoryBudget;
 use crate::scenario::{Scenario, Snapshot, beyond_a_scenario, write_snapshot};
-use crate::state_hash::StateHash;
 use crate::systems::SimulationSystems;
 use crate::timeline::Timeline;
 use crate::user_files::default_calibration_path;
@@ -119,11 +118,16 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         return Err(Failure::stopped(format!("{}: {fault}", scenario.origin)));
     }
 
-    // The final state, gathered once for its hash and the outputs.
-    let bodies = sim.snapshot();
+    // The final state's hash, read where the bodies lie; the state is
+    // gathered only for the outputs that write it.
+    let hash = sim.state_hash();
+    let bodies = if dump_path.is_some() || outputs.scenario.is_some() {
+        sim.snapshot()
+    } else {
+        Vec::new()
+    };
     let pending = sim.pending_events();
     let next_id = sim.next_body_id();
-    let hash = StateHash::of(&bodies, next_id);
     // A state a scenario cannot hold stops the run like a fault, before any
     // output is touched.
     if outputs.scenario.is_some()

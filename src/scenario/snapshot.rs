@@ -89,7 +89,7 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
     writeln!(
         out,
         "// State hash {} (docs/design.md, \"State hash\").",
-        StateHash::of(snapshot.bodies, snapshot.next_id)
+        StateHash::of_slice(snapshot.bodies, snapshot.next_id)
     )?;
     writeln!(out, "{}", scenario_text(&snapshot.to_scenario())?)?;
     out.flush()

@@ -1,5 +1,6 @@
-//! The first kernel of the sort stage: a chunk of boxes filed by grid cell
-//! with a stable counting sort, into buffers kept between updates.
+//! The first kernels of the sort stage: the boxes filed by grid cell with a
+//! stable counting sort (count by chunk, lay out, place by chunk) into one
+//! array kept between updates.
 
 use std::ops::Range;
 
@@ -17,34 +18,16 @@ pub struct CellBox {
     pub aabb: Aabb,
 }
 
-/// One chunk's boxes filed by cell: `boxes[starts[c]..starts[c + 1]]` are
-/// the chunk's boxes in cell `c`, in input order.
+/// One chunk of boxes counted by cell: the filing's first pass, kept for
+/// its second.
 #[derive(Default)]
-pub struct FiledChunk {
-    starts: Vec<u32>,
-    cursor: Vec<u32>,
+pub struct ChunkCount {
+    /// The boxes counted.
+    range: Range<usize>,
+    /// The chunk's boxes in each cell.
+    per_cell: Vec<u32>,
     /// The one cell of each box in the chunk, or [`SEVERAL_CELLS`].
     cells: Vec<u32>,
-    boxes: Vec<CellBox>,
-}
-
-impl FiledChunk {
-    /// The chunk's boxes in `cell`, in input order.
-    #[inline]
-    pub fn in_cell(&self, cell: usize) -> &[CellBox] {
-        &self.boxes[self.starts[cell] as usize..self.starts[cell + 1] as usize]
-    }
-
-    /// Calls `f` with the chunk's boxes in every cell, cell after cell, to
-    /// be reordered in place.
-    pub fn for_each_cell_mut(&mut self, mut f: impl FnMut(&mut [CellBox])) {
-        let mut rest = self.boxes.as_mut_slice();
-        for run in self.starts.windows(2) {
-            let (cell, after) = rest.split_at_mut((run[1] - run[0]) as usize);
-            f(cell);
-            rest = after;
-        }
-    }
 }
 
 /// Noted for a box that covers more than one cell.
@@ -80,57 +63,101 @@ pub fn corner_bounds<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>) -> (
     (lo, hi)
 }
 
-/// Kernel: files the boxes in `range` under every cell they cover (a stable
-/// counting sort by cell: count, then place), into the reused `out`.
-pub fn file_by_cell<B: BoxSource + ?Sized>(
+/// Kernel: the boxes in `range` counted under every cell they cover, into
+/// the reused `out`. Each box's cell is noted, so that the place pass need
+/// not work it out again; a box covering several cells is noted as
+/// [`SEVERAL_CELLS`] and its cells are worked out again.
+pub fn count_by_cell<B: BoxSource + ?Sized>(
     boxes: &B,
     range: Range<usize>,
     grid: &Grid,
-    mut out: FiledChunk,
-) -> FiledChunk {
-    let FiledChunk {
-        starts,
-        cursor,
+    mut out: ChunkCount,
+) -> ChunkCount {
+    let ChunkCount {
+        range: counted,
+        per_cell,
         cells,
-        boxes: filed,
     } = &mut out;
-    let cell_count = grid.cell_count();
-    starts.clear();
-    starts.resize(cell_count + 1, 0);
-    // The count pass notes each box's cell, so that the place pass need
-    // not work it out again; a box covering several cells is noted as
-    // `SEVERAL_CELLS` and its cells are worked out again.
+    per_cell.clear();
+    per_cell.resize(grid.cell_count(), 0);
     cells.clear();
     boxes.for_each_in(range.clone(), |_, aabb| {
         let mut count = 0;
         let mut only = 0;
         grid.for_each_cell(&aabb, |cell| {
-            starts[cell as usize + 1] += 1;
+            per_cell[cell as usize] += 1;
             count += 1;
             only = cell;
         });
         cells.push(if count == 1 { only } else { SEVERAL_CELLS });
     });
-    for cell in 0..cell_count {
-        starts[cell + 1] += starts[cell];
-    }
-    cursor.clear();
-    cursor.extend_from_slice(&starts[..cell_count]);
-    // Same length as last update's in a steady state: nothing to write here.
-    filed.resize(starts[cell_count] as usize, CellBox::default());
-    let mut noted = cells.iter();
-    boxes.for_each_in(range, |i, aabb| {
-        let mut place = |cell: u32| {
-            let at = &mut cursor[cell as usize];
-            filed[*at as usize] = CellBox { index: i as u32, aabb };
-            *at += 1;
-        };
-        match noted.next() {
-            Some(&cell) if cell != SEVERAL_CELLS => place(cell),
-            _ => grid.for_each_cell(&aabb, place),
-        }
-    });
+    *counted = range;
     out
+}
+
+/// Where each cell's boxes start in the filing, from the chunks' counts
+/// (`starts[c]..starts[c + 1]` for cell `c`), into the reused `starts`.
+/// Returns the boxes filed (a box once per cell it covers).
+pub fn cell_starts(counts: &[ChunkCount], cell_count: usize, starts: &mut Vec<u32>) -> usize {
+    starts.clear();
+    starts.reserve(cell_count + 1);
+    let mut at = 0u32;
+    starts.push(at);
+    for cell in 0..cell_count {
+        at += counts.iter().map(|chunk| chunk.per_cell[cell]).sum::<u32>();
+        starts.push(at);
+    }
+    at as usize
+}
+
+/// One chunk's share of the filing, ready to be placed: the chunk's count
+/// and, for every cell, the slots its boxes in that cell go to.
+pub struct Placing<'a> {
+    count: &'a ChunkCount,
+    slots: Vec<std::slice::IterMut<'a, CellBox>>,
+}
+
+/// The filing `filed` (as long as [`cell_starts`] says) cut into every
+/// chunk's slots: within a cell, the chunks' slots follow one another in
+/// chunk order, which is input order.
+pub fn placings<'a>(counts: &'a [ChunkCount], filed: &'a mut [CellBox]) -> Vec<Placing<'a>> {
+    let cell_count = counts.first().map_or(0, |chunk| chunk.per_cell.len());
+    let mut out: Vec<Placing<'a>> = counts
+        .iter()
+        .map(|count| Placing {
+            count,
+            slots: Vec::with_capacity(cell_count),
+        })
+        .collect();
+    let mut rest = filed;
+    for cell in 0..cell_count {
+        for placing in &mut out {
+            let (slots, after) = rest.split_at_mut(placing.count.per_cell[cell] as usize);
+            placing.slots.push(slots.iter_mut());
+            rest = after;
+        }
+    }
+    out
+}
+
+/// Kernel: places the boxes of each chunk in `placings` in their slots,
+/// in input order: the filing's second pass.
+pub fn place_by_cell<B: BoxSource + ?Sized>(boxes: &B, grid: &Grid, placings: &mut [Placing<'_>]) {
+    for Placing { count, slots } in placings {
+        let mut noted = count.cells.iter();
+        boxes.for_each_in(count.range.clone(), |i, aabb| {
+            let mut place = |cell: u32| {
+                let slot = slots[cell as usize]
+                    .next()
+                    .expect("the count pass counted a slot for every box in its cell");
+                *slot = CellBox { index: i as u32, aabb };
+            };
+            match noted.next() {
+                Some(&cell) if cell != SEVERAL_CELLS => place(cell),
+                _ => grid.for_each_cell(&aabb, place),
+            }
+        });
+    }
 }
 
 #[cfg(test)]
@@ -138,21 +165,40 @@ mod tests {
     use super::*;
     use crate::systems::broad_phase::grid::BOXES_PER_CELL;
 
+    /// Files `boxes` cut into the chunks that `cuts` start: the cells'
+    /// starts and the filed boxes' indices.
+    fn filed(boxes: &[Aabb], grid: &Grid, cuts: &[usize]) -> (Vec<u32>, Vec<u32>) {
+        let ends = cuts.iter().skip(1).copied().chain([boxes.len()]);
+        let counts: Vec<ChunkCount> = cuts
+            .iter()
+            .zip(ends)
+            .map(|(&start, end)| count_by_cell(boxes, start..end, grid, ChunkCount::default()))
+            .collect();
+        let mut starts = Vec::new();
+        let total = cell_starts(&counts, grid.cell_count(), &mut starts);
+        let mut out = vec![CellBox::default(); total];
+        place_by_cell(boxes, grid, &mut placings(&counts, &mut out));
+        (starts, out.iter().map(|b| b.index).collect())
+    }
+
     #[test]
-    fn boxes_are_filed_by_cell_in_input_order() {
+    fn boxes_are_filed_by_cell_in_input_order_however_they_are_cut() {
         let grid = Grid::fit(Vec2::ZERO, Vec2::splat(4.0), BOXES_PER_CELL * 16);
         let boxes = [
             Aabb::new(Vec3::new(0.5, 3.5, 3.5), Vec3::splat(0.1)),
             Aabb::new(Vec3::new(0.0, 0.5, 0.5), Vec3::splat(0.1)),
             Aabb::new(Vec3::new(0.0, 2.0, 0.5), Vec3::new(0.1, 1.0, 0.1)),
             Aabb::new(Vec3::new(0.0, 3.2, 3.6), Vec3::splat(0.1)),
+            Aabb::new(Vec3::new(0.0, 0.6, 0.4), Vec3::splat(0.1)),
         ];
-        let filed = file_by_cell(boxes.as_slice(), 0..4, &grid, FiledChunk::default());
-        let indices = |cell: usize| filed.in_cell(cell).iter().map(|b| b.index).collect::<Vec<_>>();
-        assert_eq!(indices(15), [0, 3]);
-        assert_eq!(indices(0), [1]);
-        // The tall box covers three cells on y.
-        assert_eq!((indices(4), indices(8), indices(12)), (vec![2], vec![2], vec![2]));
-        assert_eq!((0..16).map(|c| filed.in_cell(c).len()).sum::<usize>(), 6);
+        for cuts in [&[0][..], &[0, 1], &[0, 2, 3], &[0, 1, 2, 3, 4]] {
+            let (starts, indices) = filed(&boxes, &grid, cuts);
+            let in_cell = |cell: usize| &indices[starts[cell] as usize..starts[cell + 1] as usize];
+            assert_eq!(in_cell(15), [0, 3], "cuts {cuts:?}");
+            assert_eq!(in_cell(0), [1, 4], "cuts {cuts:?}");
+            // The tall box covers three cells on y.
+            assert_eq!((in_cell(4), in_cell(8), in_cell(12)), (&[2][..], &[2][..], &[2][..]));
+            assert_eq!(indices.len(), 7);
+        }
     }
 }

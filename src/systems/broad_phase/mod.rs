@@ -7,13 +7,13 @@
 //! sweep runs per cell of a grid over y and z:
 //!
 //! 1. **Sort** (`sorted_boxes.rs`, `filing.rs`, `ordering.rs`; stage
-//!    [`SortPlugin`](crate::systems::SortPlugin)): the boxes are filed under every cell their y–z extent
-//!    covers by a counting sort that reads the bodies' columns in order,
-//!    twice (count, then place), and never gathers at random; then each
-//!    cell's boxes are put in order by their lower x bound (ties by input
-//!    order, so the order is one fixed permutation): where they lie when
-//!    the stage runs whole, copied in that order when it is split; either
-//!    way the sweep reads each cell in one piece, in order.
+//!    [`SortPlugin`](crate::systems::SortPlugin)): the boxes are filed
+//!    under every cell their y–z extent covers, into one array, by a
+//!    counting sort that reads the bodies' columns in order, twice (count,
+//!    then place), and never gathers at random; then each cell's boxes are
+//!    put in order by their lower x bound where they lie (ties by input
+//!    order, so the order is one fixed permutation), and the sweep reads
+//!    each cell in one piece, in order.
 //! 2. **Sweep** (`sweep_pairs.rs`; stage
 //!    [`SweepPlugin`](crate::systems::SweepPlugin)): in each cell, each box
 //!    scans forward while the next box starts before it ends on x,
@@ -23,11 +23,13 @@
 //!    big box (the planet) joins the cells it covers and scans only the
 //!    boxes inside its x-slab there, so the cost stays near-linear.
 //!
-//! In parallel, contiguous ranges of boxes are filed by their own chunk,
-//! and contiguous ranges of cells are ordered, and then swept, by their own
-//! chunk; the ordering reads a cell's boxes chunk after chunk, which is
-//! input order again, and the pairs are concatenated in cell order: the
-//! same pairs in the same order as one sequential pass.
+//! In parallel, contiguous ranges of boxes are counted, and then placed,
+//! by their own chunk: within a cell, each chunk's boxes get the slots
+//! after those of the chunks before it, which is input order again, so
+//! the filing is the same array as one sequential pass. Contiguous ranges
+//! of cells are then ordered, and swept, by their own chunk, and the pairs
+//! are concatenated in cell order: the same pairs in the same order as one
+//! sequential pass.
 
 mod aabb;
 mod boxes;

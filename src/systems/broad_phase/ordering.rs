@@ -1,10 +1,9 @@
-//! The second kernel of the sort stage: each cell's boxes — gathered from
-//! every filed chunk — put in sweep order: by lower x bound, ties by their
-//! position in the cell, which is input order.
+//! The last kernel of the sort stage: each cell's boxes put in sweep order
+//! where they lie: by lower x bound, ties by their position in the cell,
+//! which is input order.
 
-use std::ops::Range;
-
-use super::filing::{CellBox, FiledChunk};
+use super::filing::CellBox;
+use crate::execution::Split;
 
 /// Maps an f32 to a u32 with the same order (for all non-NaN values).
 #[inline]
@@ -17,69 +16,55 @@ fn order_key(x: f32) -> u32 {
     }
 }
 
-/// The boxes of `cell`: the runs of every filed chunk one after the other
-/// (input order), gathered into `scratch` when there are several chunks.
-pub fn gather_cell<'a>(filed: &'a [FiledChunk], cell: usize, scratch: &'a mut Vec<CellBox>) -> &'a [CellBox] {
-    match filed {
-        [only] => only.in_cell(cell),
-        _ => {
-            scratch.clear();
-            for chunk in filed {
-                scratch.extend_from_slice(chunk.in_cell(cell));
-            }
-            scratch
-        }
+/// Contiguous cells of the filing and their boxes: the `c`-th cell holds
+/// `boxes[starts[c] - starts[0]..starts[c + 1] - starts[0]]`. Cut by
+/// cells, so that chunks of cells order their boxes side by side.
+pub struct CellRuns<'a> {
+    starts: &'a [u32],
+    boxes: &'a mut [CellBox],
+}
+
+impl<'a> CellRuns<'a> {
+    /// Every cell of a filing: `starts` has one entry per cell and one
+    /// more, and `boxes` is as long as its last says.
+    pub fn new(starts: &'a [u32], boxes: &'a mut [CellBox]) -> Self {
+        Self { starts, boxes }
     }
 }
 
-/// A range of cells with their boxes in sweep order: for cell
-/// `cells.start + c`, `boxes[starts[c]..starts[c + 1]]`. A copy, so that
-/// the sweep reads each cell's boxes in order, in one piece.
-#[derive(Default)]
-pub struct CellOrder {
-    /// The cells this part covers.
-    pub cells: Range<usize>,
-    starts: Vec<u32>,
-    boxes: Vec<CellBox>,
-}
+impl Split for CellRuns<'_> {
+    fn len(&self) -> usize {
+        self.starts.len().saturating_sub(1)
+    }
 
-impl CellOrder {
-    /// `cell`'s boxes in sweep order (`cell` in [`Self::cells`]).
-    #[inline]
-    pub fn of(&self, cell: usize) -> &[CellBox] {
-        let c = cell - self.cells.start;
-        &self.boxes[self.starts[c] as usize..self.starts[c + 1] as usize]
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        let cut = (self.starts[mid] - self.starts[0]) as usize;
+        let (first, second) = self.boxes.split_at_mut(cut);
+        (
+            Self {
+                starts: &self.starts[..=mid],
+                boxes: first,
+            },
+            Self {
+                starts: &self.starts[mid..],
+                boxes: second,
+            },
+        )
     }
 }
 
-/// Kernel: every cell in `cells` with its boxes in sweep order, into the
-/// reused `out`, for boxes filed in several chunks.
-pub fn order_cells(filed: &[FiledChunk], cells: Range<usize>, mut out: CellOrder) -> CellOrder {
-    let mut gathered = Vec::new();
-    let mut keys: Vec<u64> = Vec::new();
-    out.starts.clear();
-    out.boxes.clear();
-    out.starts.push(0);
-    for cell in cells.clone() {
-        let boxes = gather_cell(filed, cell, &mut gathered);
-        sweep_keys(boxes, &mut keys);
-        out.boxes.extend(keys.iter().map(|&key| boxes[key as u32 as usize]));
-        out.starts.push(out.boxes.len() as u32);
-    }
-    out.cells = cells;
-    out
-}
-
-/// Kernel: every cell of the one `filed` chunk put in sweep order where it
-/// lies, for boxes filed in one chunk (the stage ran whole): no copy.
-pub fn order_in_place(filed: &mut FiledChunk) {
+/// Kernel: every cell in `runs` put in sweep order where it lies.
+pub fn order_cells(runs: CellRuns<'_>) {
     let (mut keys, mut ordered) = (Vec::new(), Vec::new());
-    filed.for_each_cell_mut(|boxes| {
+    let mut rest = runs.boxes;
+    for run in runs.starts.windows(2) {
+        let (boxes, after) = rest.split_at_mut((run[1] - run[0]) as usize);
         sweep_keys(boxes, &mut keys);
         ordered.clear();
         ordered.extend(keys.iter().map(|&key| boxes[key as u32 as usize]));
         boxes.copy_from_slice(&ordered);
-    });
+        rest = after;
+    }
 }
 
 /// The sweep order of one cell's `boxes` as sorted keys, into `keys`: the
@@ -102,8 +87,6 @@ mod tests {
 
     use super::*;
     use crate::systems::Aabb;
-    use crate::systems::broad_phase::filing::file_by_cell;
-    use crate::systems::broad_phase::grid::Grid;
 
     #[test]
     fn order_key_preserves_float_order() {
@@ -114,24 +97,30 @@ mod tests {
     }
 
     #[test]
-    fn cells_are_ordered_on_x_across_chunks_with_ties_in_input_order() {
-        let grid = Grid::fit(Vec2::ZERO, Vec2::ZERO, 1);
-        let at = |x: f32| Aabb::new(Vec3::new(x, 0.0, 0.0), Vec3::splat(0.1));
-        let boxes = [at(3.0), at(1.0), at(2.0), at(1.0), at(0.0)];
-        let whole = [file_by_cell(boxes.as_slice(), 0..5, &grid, FiledChunk::default())];
-        let split = [
-            file_by_cell(boxes.as_slice(), 0..2, &grid, FiledChunk::default()),
-            file_by_cell(boxes.as_slice(), 2..5, &grid, FiledChunk::default()),
+    fn cells_are_ordered_on_x_with_ties_in_input_order_however_they_are_cut() {
+        let at = |index: u32, x: f32| CellBox {
+            index,
+            aabb: Aabb::new(Vec3::new(x, 0.0, 0.0), Vec3::splat(0.1)),
+        };
+        // Two cells: [3, 1, 2, 1, 0] on x, then [5, -5].
+        let filed = [
+            at(0, 3.0),
+            at(1, 1.0),
+            at(2, 2.0),
+            at(3, 1.0),
+            at(4, 0.0),
+            at(5, 5.0),
+            at(6, -5.0),
         ];
-        for filed in [whole.as_slice(), split.as_slice()] {
-            let order = order_cells(filed, 0..1, CellOrder::default());
-            let indices: Vec<u32> = order.of(0).iter().map(|b| b.index).collect();
-            assert_eq!(indices, [4, 1, 3, 2, 0]);
+        let starts = [0, 5, 7];
+        for cut in 0..=2 {
+            let mut boxes = filed;
+            let (first, second) = CellRuns::new(&starts, &mut boxes).split_at(cut);
+            assert_eq!((first.len(), second.len()), (cut, 2 - cut));
+            order_cells(first);
+            order_cells(second);
+            let indices: Vec<u32> = boxes.iter().map(|b| b.index).collect();
+            assert_eq!(indices, [4, 1, 3, 2, 0, 6, 5], "cut after {cut} cells");
         }
-        // One chunk is put in the same order where it lies.
-        let [mut only] = whole;
-        order_in_place(&mut only);
-        let indices: Vec<u32> = only.in_cell(0).iter().map(|b| b.index).collect();
-        assert_eq!(indices, [4, 1, 3, 2, 0]);
     }
 }

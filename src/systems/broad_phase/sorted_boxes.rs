@@ -1,35 +1,35 @@
 //! The sort stage's work on any [`BoxSource`]: a grid fitted to the boxes,
 //! the boxes filed by cell (chunks of boxes), and each cell put in sweep
-//! order (chunks of cells) — [`SortedBoxes`], ready for the sweep.
+//! order where it lies (chunks of cells) — [`SortedBoxes`], ready for the
+//! sweep.
 
 use std::sync::{Mutex, PoisonError};
 
 use bevy::prelude::*;
 
 use super::BoxSource;
-use super::filing::CellBox;
-use super::filing::{FiledChunk, corner_bounds, corner_sample, file_by_cell};
+use super::filing::{
+    CellBox, ChunkCount, cell_starts, corner_bounds, corner_sample, count_by_cell, place_by_cell, placings,
+};
 use super::grid::{GRID_SAMPLES, Grid, SampledBox};
-use super::ordering::{CellOrder, order_cells, order_in_place};
+use super::ordering::{CellRuns, order_cells};
 use crate::execution::StageExecution;
 
 /// The sort stage's result: the grid and every cell's boxes in sweep
-/// order. Run whole, the stage files the boxes in one `FiledChunk` and
-/// orders each cell there, in place; split, it files one chunk per chunk
-/// of boxes and copies each cell's boxes in order into parts of contiguous
-/// cells. Its buffers are kept and reused by the next sort, so that a
-/// million boxes do not fault in fresh pages every update: about 32 bytes
-/// per box run whole, 60 split (a box is filed once per cell it covers,
-/// mostly one).
+/// order, in one array, cell after cell. Its buffers are kept and reused
+/// by the next sort, so that a million boxes do not fault in fresh pages
+/// every update: about 32 bytes per box (a box is filed once per cell it
+/// covers, mostly one), run whole or split.
 #[derive(Resource, Default)]
 pub struct SortedBoxes {
     grid: Option<Grid>,
-    chunks: Vec<FiledChunk>,
-    /// Empty where the one filed chunk was ordered in place.
-    orders: Vec<CellOrder>,
-    /// Buffers the last sort did not need.
-    spare_chunks: Vec<FiledChunk>,
-    spare_orders: Vec<CellOrder>,
+    /// Cell `c`'s boxes are `boxes[starts[c]..starts[c + 1]]`.
+    starts: Vec<u32>,
+    boxes: Vec<CellBox>,
+    /// The last sort's counts, one per chunk of boxes.
+    counts: Vec<ChunkCount>,
+    /// Count buffers the last sort did not need.
+    spare_counts: Vec<ChunkCount>,
     len: usize,
 }
 
@@ -40,20 +40,10 @@ impl SortedBoxes {
         self.grid.as_ref()
     }
 
-    /// `cell`'s boxes in sweep order. `part` is where to start looking for
-    /// the part of the copy that holds it (0, or the last cell's, for
-    /// cells asked for in order).
+    /// `cell`'s boxes in sweep order.
     #[inline]
-    pub fn in_sweep_order(&self, cell: usize, part: &mut usize) -> &[CellBox] {
-        match (self.orders.as_slice(), self.chunks.as_slice()) {
-            ([], [only]) => only.in_cell(cell),
-            (orders, _) => {
-                while orders[*part].cells.end <= cell {
-                    *part += 1;
-                }
-                orders[*part].of(cell)
-            }
-        }
+    pub fn in_sweep_order(&self, cell: usize) -> &[CellBox] {
+        &self.boxes[self.starts[cell] as usize..self.starts[cell + 1] as usize]
     }
 
     /// Number of boxes sorted.
@@ -74,9 +64,10 @@ impl SortedBoxes {
 }
 
 /// Sorts `boxes` into `sorted`, reusing its buffers: the bounds of the
-/// boxes' lower y–z corners, the grid fitted to them, the filing by cell,
-/// then the ordering of each cell on x, each step whole or in chunks as
-/// `stage` says.
+/// boxes' lower y–z corners, the grid fitted to them, the filing by cell
+/// (counted by chunks of boxes, laid out, placed by the same chunks), then
+/// the ordering of each cell on x where it lies (by chunks of cells), each
+/// step whole or in chunks as `stage` says.
 pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
     // An even sample of the corners to fit the grid to their bulk: a few
     // far-flung boxes must not stretch it. Their true bounds only where
@@ -94,18 +85,16 @@ pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, s
                 |(lo, hi), (l, h)| (lo.min(l), hi.max(h)),
             )
     });
-    let chunks = Spare::new(&mut sorted.spare_chunks, &mut sorted.chunks);
-    sorted.chunks = stage.map_chunks(0..boxes.len(), |range| file_by_cell(boxes, range, &grid, chunks.take()));
-    sorted.spare_chunks = chunks.into_inner();
-    if let [only] = sorted.chunks.as_mut_slice() {
-        order_in_place(only);
-        sorted.spare_orders.append(&mut sorted.orders);
-    } else {
-        let orders = Spare::new(&mut sorted.spare_orders, &mut sorted.orders);
-        let filed = &sorted.chunks;
-        sorted.orders = stage.map_chunks(0..grid.cell_count(), |cells| order_cells(filed, cells, orders.take()));
-        sorted.spare_orders = orders.into_inner();
-    }
+    let spare = Spare::new(&mut sorted.spare_counts, &mut sorted.counts);
+    sorted.counts = stage.map_chunks(0..boxes.len(), |range| count_by_cell(boxes, range, &grid, spare.take()));
+    sorted.spare_counts = spare.into_inner();
+    let filed = cell_starts(&sorted.counts, grid.cell_count(), &mut sorted.starts);
+    // Same length as last update's in a steady state: nothing to write here.
+    sorted.boxes.resize(filed, CellBox::default());
+    stage.for_chunks(placings(&sorted.counts, &mut sorted.boxes).as_mut_slice(), |chunks| {
+        place_by_cell(boxes, &grid, chunks);
+    });
+    stage.for_chunks(CellRuns::new(&sorted.starts, &mut sorted.boxes), order_cells);
     sorted.grid = Some(grid);
     sorted.len = boxes.len();
 }

@@ -69,11 +69,11 @@ impl PairBudget {
 /// before it ends on x. `None` once the sweep's pairs exceed the budget.
 fn sweep_cells(sorted: &SortedBoxes, grid: &Grid, cells: Range<usize>, budget: &PairBudget) -> Option<Vec<(u32, u32)>> {
     let mut pairs = Vec::new();
-    let mut part = 0;
     for cell in cells {
-        let boxes = sorted.in_sweep_order(cell, &mut part);
-        for (k, a) in boxes.iter().enumerate() {
-            for b in &boxes[k + 1..] {
+        let mut rest = sorted.in_sweep_order(cell);
+        while let Some((a, after)) = rest.split_first() {
+            rest = after;
+            for b in after {
                 if b.aabb.min.x > a.aabb.max.x {
                     break;
                 }

@@ -71,7 +71,7 @@ pub fn dump_at_close(
     }
     let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
     states.sort_unstable_by_key(|b| b.id);
-    let hash = StateHash::of(&states, next_id.0);
+    let hash = StateHash::of_slice(&states, next_id.0);
     match write_atomically(&dump.0, |w| crate::dump::write_csv(&states, hash, w)) {
         Ok(()) => println!(
             "kessler: closed after {} updates of the scene; state hash {hash}; state written to {}",
