@@ -118,8 +118,10 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
         return Err(Failure::stopped(format!("{}: {fault}", scenario.origin)));
     }
 
-    // The final state's hash, read where the bodies lie; the state is
-    // gathered only for the outputs that write it.
+    // The final state's hash, read where the bodies lie, in the memory the
+    // sort's buffers took; the state is gathered only for the outputs that
+    // write it.
+    sim.release_buffers();
     let hash = sim.state_hash();
     let bodies = if dump_path.is_some() || outputs.scenario.is_some() {
         sim.snapshot()
