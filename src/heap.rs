@@ -8,27 +8,37 @@
 //! resident for the whole run. [`hand_back_big_blocks`] makes every block
 //! of [`BIG_BLOCK`] or more a mapping of its own: freed, it goes back to the
 //! system at once, and grown, it is moved by the kernel without a copy.
-//! Buffers the stages keep between updates are allocated once and are not
-//! affected; docs/benchmarks.md ("The update near its limit") has the
-//! measurements. Elsewhere than on Linux with glibc, both functions do
+//! Smaller blocks stay on the heap, and its free top is kept up to
+//! [`KEPT_FREE`] (glibc's default, once told where big blocks start, would
+//! hand back all but 128 KiB, so that the scratch an update allocates and
+//! frees, a few MiB at a million bodies, would fault in fresh pages every
+//! update). Buffers the stages keep between updates are allocated once and
+//! are not affected; docs/benchmarks.md ("The update near its limit") has
+//! the measurements. Elsewhere than on Linux with glibc, both functions do
 //! nothing.
 
 /// The smallest block given a mapping of its own, in bytes.
 pub const BIG_BLOCK: usize = 1 << 20;
 
-/// Makes blocks of [`BIG_BLOCK`] bytes or more mappings of their own, for
-/// the whole process. Called once, first thing, by the binary.
+/// Free memory kept at the top of the heap for the next blocks, in bytes.
+pub const KEPT_FREE: usize = 64 << 20;
+
+/// Makes blocks of [`BIG_BLOCK`] bytes or more mappings of their own and
+/// keeps [`KEPT_FREE`] bytes free at the heap's top, for the whole process.
+/// Called once, first thing, by the binary.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 pub fn hand_back_big_blocks() {
-    // SAFETY: `mallopt` is glibc's (this function is built for glibc
-    // targets only); it takes two plain integers and changes only the
-    // allocator's own parameters, under its lock. A threshold below
-    // `c_int::MAX` is valid; blocks already allocated are unaffected.
-    #[expect(unsafe_code, reason = "glibc's mallopt, a foreign function")]
-    let done = unsafe { libc::mallopt(libc::M_MMAP_THRESHOLD, BIG_BLOCK as libc::c_int) };
-    // On failure (0) the allocator keeps its defaults: more memory, same
-    // results.
-    let _ = done;
+    for (parameter, bytes) in [(libc::M_MMAP_THRESHOLD, BIG_BLOCK), (libc::M_TRIM_THRESHOLD, KEPT_FREE)] {
+        // SAFETY: `mallopt` is glibc's (this function is built for glibc
+        // targets only); it takes two plain integers and changes only the
+        // allocator's own parameters, under its lock. Thresholds below
+        // `c_int::MAX` are valid; blocks already allocated are unaffected.
+        #[expect(unsafe_code, reason = "glibc's mallopt, a foreign function")]
+        let done = unsafe { libc::mallopt(parameter, bytes as libc::c_int) };
+        // On failure (0) the allocator keeps that default: other memory
+        // use, the same results.
+        let _ = done;
+    }
 }
 
 /// Makes blocks of [`BIG_BLOCK`] bytes or more mappings of their own.
