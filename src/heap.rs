@@ -6,7 +6,7 @@
 //! that doubles as shattering spawns fragments then leaves its old copy
 //! resident beside the new one, and the temporaries of loading a scene stay
 //! resident for the whole run. [`hand_back_big_blocks`] makes every block
-//! of [`BIG_BLOCK`] or more a mapping of its own: freed, it goes back to the
+//! of [`BIG_BLOCK`] (1 MiB) or more a mapping of its own: freed, it goes back to the
 //! system at once, and grown, it is moved by the kernel without a copy.
 //! Smaller blocks stay on the heap, and its free top is kept up to
 //! [`KEPT_FREE`] (glibc's default, once told where big blocks start, would
@@ -17,7 +17,10 @@
 //! the measurements. Elsewhere than on Linux with glibc, both functions do
 //! nothing.
 
-/// The smallest block given a mapping of its own, in bytes.
+/// The smallest block given a mapping of its own, in bytes. The scratch an
+/// update allocates and frees stays below it (the filing's slots, 16 bytes
+/// a cell for each chunk of boxes) up to the grid's most cells, 65 536 (a
+/// few million bodies), where each chunk's reaches it.
 pub const BIG_BLOCK: usize = 1 << 20;
 
 /// Free memory kept at the top of the heap for the next blocks, in bytes.
@@ -41,7 +44,7 @@ pub fn hand_back_big_blocks() {
     }
 }
 
-/// Makes blocks of [`BIG_BLOCK`] bytes or more mappings of their own.
+/// Does nothing: the settings are glibc's.
 #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
 pub fn hand_back_big_blocks() {}
 
@@ -60,6 +63,6 @@ pub fn release_free_memory() {
     }
 }
 
-/// Hands freed heap memory back to the system.
+/// Does nothing: `malloc_trim` is glibc's.
 #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
 pub fn release_free_memory() {}

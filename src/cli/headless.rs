@@ -122,7 +122,7 @@ pub fn simulate(scenario: &Scenario, execution: Execution, updates: u64, outputs
     // sort's buffers took; the state is gathered only for the outputs that
     // write it.
     sim.release_buffers();
-    let hash = sim.state_hash();
+    let hash = sim.state_hash_in_place();
     let bodies = if dump_path.is_some() || outputs.scenario.is_some() {
         sim.snapshot()
     } else {

@@ -151,12 +151,18 @@ impl BodyState {
 /// [`Spherical`], an absorber's [`Absorbs`]), in the order given.
 pub fn spawn_states(world: &mut World, bodies: &[BodyState]) {
     let entities: Vec<Entity> = world.spawn_batch(bodies.iter().map(BodyState::bundle)).collect();
-    for (entity, body) in entities.iter().zip(bodies) {
-        if body.spherical {
-            world.entity_mut(*entity).insert(Spherical);
-        }
-        if body.absorbs {
-            world.entity_mut(*entity).insert(Absorbs);
-        }
+    for (&entity, body) in entities.iter().zip(bodies) {
+        insert_markers(world, entity, body.spherical, body.absorbs);
+    }
+}
+
+/// Gives a spawned body the markers of a ball ([`Spherical`]) and of an
+/// absorber ([`Absorbs`]) where it is one.
+pub fn insert_markers(world: &mut World, entity: Entity, spherical: bool, absorbs: bool) {
+    if spherical {
+        world.entity_mut(entity).insert(Spherical);
+    }
+    if absorbs {
+        world.entity_mut(entity).insert(Absorbs);
     }
 }

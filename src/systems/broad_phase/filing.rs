@@ -157,6 +157,10 @@ pub fn place_by_cell<B: BoxSource + ?Sized>(boxes: &B, grid: &Grid, placings: &m
                 _ => grid.for_each_cell(&aabb, place),
             }
         });
+        debug_assert!(
+            slots.iter().all(|slot| slot.as_slice().is_empty()),
+            "the count pass counted a box the place pass did not place"
+        );
     }
 }
 

@@ -174,8 +174,8 @@ mod tests {
         pairs
     }
 
-    /// Parallel runs split every step into small chunks, so that cells
-    /// gather their boxes from many filed chunks.
+    /// Parallel runs split every step into small chunks, so that every
+    /// cell's boxes are placed by many chunks, each into its own slots.
     fn run(boxes: &[Aabb], mode: ExecutionMode) -> Vec<(u32, u32)> {
         let exec = Execution::new(mode, 3).unwrap().fine_grained();
         sweep_and_prune(boxes, &exec, &mut SortedBoxes::default()).unwrap()
