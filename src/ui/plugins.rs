@@ -6,7 +6,7 @@ use bevy::prelude::*;
 use super::draw::{
     AtmospherePlugin, BackdropPlugin, CelestialsPlugin, InstancingPlugin, MeshesPlugin, PresentModePlugin, TrailsPlugin,
 };
-use super::measure::FrameStatsPlugin;
+use super::measure::{FrameStatsPlugin, PipelinesPlugin};
 use super::overlay::{CascadePlugin, HudPlugin, PanelPlugin};
 use super::session::{DrivePlugin, ScenePlugin, SettingsFilePlugin, SnapshotSavePlugin};
 use super::tools::ToolsPlugin;
@@ -40,6 +40,7 @@ impl PluginGroup for SandboxPlugins {
             .add(FrameStatsPlugin {
                 record_all: self.record_all_frames,
             })
+            .add(PipelinesPlugin)
             .add(SettingsFilePlugin)
             .add(SnapshotSavePlugin)
             .add(CascadePlugin)

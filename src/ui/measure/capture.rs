@@ -11,6 +11,7 @@ use bevy::render::view::screenshot::ScreenshotCaptured;
 use super::frame_stats::{FrameStats, summarize};
 use super::gpu_memory::GpuMemory;
 use super::picture::{save_png, screenshot_of};
+use super::pipelines::PipelinesSettled;
 use crate::bench::{FrameReport, peak_memory};
 use crate::components::{BodyId, GravityRole, Interacts};
 use crate::draw_method::DrawMethod;
@@ -20,25 +21,44 @@ use crate::ui::draw::is_celestial;
 use crate::ui::session::UpdateClock;
 use crate::ui::session::{OffscreenTarget, SandboxSettings};
 
-/// Frames skipped before frame times count (pipelines compile, buffers fill).
+/// Frames skipped, after the scene is first drawn in full, before frame
+/// times count (buffers fill, caches warm).
 pub const WARMUP_FRAMES: usize = crate::bench::WINDOW_WARMUP_FRAMES as usize;
-/// Longest a scripted run waits past its frames for the bodies to be drawn
-/// (shader compilation under software rendering is slow).
+/// Longest a scripted run waits for the scene to be drawn in full, and for
+/// the pipelines to settle before it ends (shader compilation under
+/// software rendering is slow).
 pub const READY_TIMEOUT: Duration = Duration::from_secs(120);
 
-/// What a scripted run does.
+/// What a scripted run does, and how far it is.
 #[derive(Resource, Clone, Debug)]
 pub struct ScriptedRun {
-    /// Frames to run before finishing.
+    /// Frames to run, counted from the first frame drawn in full.
     pub frames: u64,
     /// Where to save a screenshot at the end (a new file).
     pub screenshot: Option<PathBuf>,
-    /// When the run started.
-    pub started: Instant,
+    /// Since when the run has waited: for the scene to be drawn in full,
+    /// then for the pipelines to settle before it ends.
+    pub waiting_since: Instant,
+    /// The frame (counted from the app's first) from which frames count:
+    /// the first drawn in full; `None` until then.
+    pub first_frame: Option<u64>,
     /// Screenshot requested (waiting for it to be written).
     pub capturing: bool,
+    /// How the app is to end, once the pipelines are settled.
+    pub ending: Option<AppExit>,
     /// Where to write what the run measured (a new file), if anywhere.
     pub frame_report: Option<PathBuf>,
+}
+
+/// What a scripted run does this frame.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Step {
+    /// Nothing: frames to go, or waiting.
+    Wait,
+    /// Take the screenshot.
+    Capture,
+    /// End the app.
+    Exit(AppExit),
 }
 
 impl ScriptedRun {
@@ -47,10 +67,66 @@ impl ScriptedRun {
         Self {
             frames,
             screenshot,
-            started: Instant::now(),
+            waiting_since: Instant::now(),
+            first_frame: None,
             capturing: false,
+            ending: None,
             frame_report: None,
         }
+    }
+
+    /// The frames that count, of `all` (every frame time since the app
+    /// started): none before the first frame drawn in full.
+    pub fn counted<'a>(&self, all: &'a [f64]) -> &'a [f64] {
+        let first = self
+            .first_frame
+            .map_or(all.len(), |f| usize::try_from(f).unwrap_or(usize::MAX));
+        &all[first.min(all.len())..]
+    }
+
+    /// Marks the run to end with `exit` once the pipelines are settled.
+    fn end(&mut self, exit: AppExit, now: Instant) {
+        self.ending = Some(exit);
+        self.waiting_since = now;
+    }
+
+    /// The next step at frame `frame` (frames since the app started),
+    /// given whether the scene is drawn in full (`drawn`: the pipelines
+    /// settled and the bodies drawn) and whether the pipelines are settled
+    /// now. A wait longer than [`READY_TIMEOUT`] goes on as if it were over.
+    fn step(&mut self, frame: u64, drawn: bool, settled: bool, now: Instant) -> Step {
+        let waited_too_long = now.duration_since(self.waiting_since) > READY_TIMEOUT;
+        if let Some(exit) = &self.ending {
+            if !settled && !waited_too_long {
+                return Step::Wait;
+            }
+            if !settled {
+                warn!("pipelines still compiling after {READY_TIMEOUT:?}; ending anyway");
+            }
+            return Step::Exit(exit.clone());
+        }
+        if self.capturing {
+            return Step::Wait;
+        }
+        let Some(first) = self.first_frame else {
+            if !drawn && !waited_too_long {
+                return Step::Wait;
+            }
+            if !drawn {
+                warn!("the scene was not drawn in full within {READY_TIMEOUT:?}; counting frames anyway");
+            }
+            self.first_frame = Some(frame);
+            return Step::Wait;
+        };
+        if frame < first + self.frames {
+            return Step::Wait;
+        }
+        if self.screenshot.is_some() {
+            self.capturing = true;
+            return Step::Capture;
+        }
+        self.end(AppExit::Success, now);
+        self.step(frame, drawn, settled, now)
     }
 }
 
@@ -80,8 +156,8 @@ fn bodies_ready(settings: &SandboxSettings, cubes: usize, draws: Option<u64>) ->
 /// The cubes of the scene: the bodies the instanced pipeline draws.
 type Cubes<'w, 's> = Query<'w, 's, (&'static GravityRole, &'static Interacts), With<BodyId>>;
 
-/// After the frames (and once the bodies are on screen), takes the
-/// screenshot or ends the run.
+/// Counts the frames once the scene is drawn in full, then takes the
+/// screenshot, and ends the app once the pipelines are settled.
 #[expect(
     clippy::too_many_arguments,
     reason = "a Bevy system's parameters are its data access"
@@ -94,45 +170,40 @@ fn scripted_run(
     instanced: Query<&InstancedBodies>,
     cubes: Cubes,
     target: Option<Res<OffscreenTarget>>,
+    settled: Res<PipelinesSettled>,
     mut exit: MessageWriter<AppExit>,
 ) {
-    if run.capturing || stats.frames < run.frames {
-        return;
-    }
-    let cubes = cubes
-        .iter()
-        .filter(|&(&role, &interacts)| !is_celestial(role, interacts))
-        .count();
-    let draws = instanced.iter().map(|InstancedBodies(slot)| slot.draws()).min();
-    let ready = bodies_ready(&settings, cubes, draws);
-    let timed_out = run.started.elapsed() > READY_TIMEOUT;
-    if !ready && !timed_out {
-        return;
-    }
-    if !ready {
-        warn!("the bodies were not drawn within {READY_TIMEOUT:?}; finishing anyway");
-    }
-    match run.screenshot.clone() {
-        Some(path) => {
-            run.capturing = true;
+    let settled = settled.get();
+    let drawn = settled && {
+        let cubes = cubes
+            .iter()
+            .filter(|&(&role, &interacts)| !is_celestial(role, interacts))
+            .count();
+        let draws = instanced.iter().map(|InstancedBodies(slot)| slot.draws()).min();
+        bodies_ready(&settings, cubes, draws)
+    };
+    match run.step(stats.frames, drawn, settled, Instant::now()) {
+        Step::Wait => {}
+        Step::Exit(code) => {
+            exit.write(code);
+        }
+        Step::Capture => {
+            let path = run.screenshot.clone().unwrap_or_default();
             commands.spawn(screenshot_of(target.as_deref())).observe(
-                move |captured: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| match save_png(
-                    &captured.image,
-                    &path,
-                ) {
-                    Ok(()) => {
-                        eprintln!("kessler: screenshot saved to {}", path.display());
-                        exit.write(AppExit::Success);
-                    }
-                    Err(e) => {
-                        eprintln!("kessler: error: {}: cannot save screenshot: {e}", path.display());
-                        exit.write(AppExit::from_code(1));
-                    }
+                move |captured: On<ScreenshotCaptured>, mut run: ResMut<ScriptedRun>| {
+                    let exit = match save_png(&captured.image, &path) {
+                        Ok(()) => {
+                            eprintln!("kessler: screenshot saved to {}", path.display());
+                            AppExit::Success
+                        }
+                        Err(e) => {
+                            eprintln!("kessler: error: {}: cannot save screenshot: {e}", path.display());
+                            AppExit::from_code(1)
+                        }
+                    };
+                    run.end(exit, Instant::now());
                 },
             );
-        }
-        None => {
-            exit.write(AppExit::Success);
         }
     }
 }
@@ -163,7 +234,7 @@ fn report_frames(
     } else {
         0.0
     };
-    let summary = summarize(&stats.all, WARMUP_FRAMES);
+    let summary = summarize(run.counted(&stats.all), WARMUP_FRAMES);
     if let Some(path) = &run.frame_report {
         let gpu = gpu.map(|g| g.reading()).unwrap_or_default();
         let report = FrameReport {
@@ -222,5 +293,71 @@ mod tests {
             ..instanced
         };
         assert!(bodies_ready(&meshes, 300, Some(0)));
+    }
+
+    /// Steps a run through `frames`, each `(drawn, settled)`, one frame
+    /// apart in time; what it did at each.
+    fn steps(run: &mut ScriptedRun, frames: &[(bool, bool)]) -> Vec<Step> {
+        let now = run.waiting_since;
+        (0..)
+            .zip(frames)
+            .map(|(frame, &(drawn, settled))| run.step(frame, drawn, settled, now + Duration::from_millis(frame)))
+            .collect()
+    }
+
+    #[test]
+    fn frames_count_from_the_first_frame_drawn_in_full() {
+        let mut run = ScriptedRun::new(3, None);
+        // Three frames while the pipelines compile, then drawn from frame 3:
+        // frames 3, 4 and 5 count, and the run ends at frame 6.
+        let mut frames = vec![(false, false); 3];
+        frames.extend([(true, true); 4]);
+        let steps = steps(&mut run, &frames);
+        assert_eq!(run.first_frame, Some(3));
+        assert_eq!(steps[..6], vec![Step::Wait; 6]);
+        assert_eq!(steps[6], Step::Exit(AppExit::Success));
+        let times: Vec<f64> = (0..7).map(f64::from).collect();
+        assert_eq!(run.counted(&times), &[3.0, 4.0, 5.0, 6.0]);
+    }
+
+    #[test]
+    fn nothing_counts_before_the_scene_is_drawn() {
+        let run = ScriptedRun::new(3, None);
+        assert!(run.counted(&[1.0, 2.0]).is_empty());
+    }
+
+    #[test]
+    fn the_run_ends_only_once_the_pipelines_are_settled() {
+        let mut run = ScriptedRun::new(1, Some(PathBuf::from("shot.png")));
+        let steps = steps(&mut run, &[(true, true), (true, true), (true, true)]);
+        assert_eq!(
+            steps,
+            [Step::Wait, Step::Capture, Step::Wait],
+            "one screenshot, then its saving"
+        );
+        // Saved while the screenshot's own pipeline compiles: the run waits.
+        let now = Instant::now();
+        run.end(AppExit::Success, now);
+        assert_eq!(run.step(3, false, false, now), Step::Wait);
+        assert_eq!(run.step(4, true, true, now), Step::Exit(AppExit::Success));
+        // A failed save ends with its code.
+        run.end(AppExit::from_code(1), now);
+        assert_eq!(run.step(5, true, true, now), Step::Exit(AppExit::from_code(1)));
+    }
+
+    #[test]
+    fn a_wait_past_the_timeout_goes_on() {
+        let mut run = ScriptedRun::new(1, None);
+        let late = run.waiting_since + READY_TIMEOUT + Duration::from_secs(1);
+        assert_eq!(run.step(0, false, false, run.waiting_since), Step::Wait);
+        assert_eq!(run.step(1, false, false, late), Step::Wait, "counting starts");
+        assert_eq!(run.first_frame, Some(1));
+        // Its frame done, the run waits for the pipelines, then ends anyway.
+        let now = Instant::now();
+        assert_eq!(run.step(2, false, false, now), Step::Wait);
+        assert_eq!(
+            run.step(3, false, false, now + READY_TIMEOUT + Duration::from_secs(1)),
+            Step::Exit(AppExit::Success)
+        );
     }
 }

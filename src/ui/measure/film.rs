@@ -1,6 +1,7 @@
 //! Films (`kessler run --frames-out DIR --every K`): a numbered PNG of the
 //! window (or the offscreen image) every K updates — at most one a frame,
-//! so a frame that runs past several multiples of K gives one picture.
+//! so a frame that runs past several multiples of K gives one picture; the
+//! first once the pipelines are compiled.
 
 use std::path::PathBuf;
 
@@ -9,6 +10,7 @@ use bevy::render::view::screenshot::ScreenshotCaptured;
 
 use super::capture::ScriptedRun;
 use super::picture::{save_png, screenshot_of};
+use super::pipelines::PipelinesSettled;
 use crate::ui::session::{OffscreenTarget, UpdateClock, frame_path};
 
 /// Where a film goes and how far it is.
@@ -46,14 +48,20 @@ impl Plugin for FilmPlugin {
 }
 
 /// A picture when the update count passed the next multiple of `every`
-/// (and one at the start).
+/// (and one at the start), once the scene is drawn in full (the first
+/// picture waits for the pipelines: before, it would be black or half
+/// drawn).
 fn take_picture(
     mut commands: Commands,
     clock: Res<UpdateClock>,
     mut film: ResMut<Film>,
     target: Option<Res<OffscreenTarget>>,
     run: Option<Res<ScriptedRun>>,
+    settled: Res<PipelinesSettled>,
 ) {
+    if !settled.get() {
+        return;
+    }
     // A scripted run's last screenshot is being taken: the app is ending,
     // and one render target takes one screenshot a frame.
     if run.is_some_and(|run| run.capturing) {
