@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Measures on a server (many cores, perhaps a GPU, no display) what a
-# 2-core machine cannot show (docs/benchmarks.md, "A machine with more
-# cores and a GPU"):
+# 2-core machine cannot show (docs/benchmarks.md, "A server: 16 threads
+# and an H200", was measured so):
 #
 #   threads  the core-count axis, up to every hardware thread (threads.ron)
 #   pool     Kessler's pool beside Bevy's on every hardware thread
