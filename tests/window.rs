@@ -516,8 +516,9 @@ fn a_scripted_run_of_a_scene_without_cubes_does_not_wait_for_them() {
     let scenario = dir.path().join("empty.ron");
     std::fs::write(&scenario, "Scenario()").unwrap();
     let (.., took) = run_window_frames(dir.path(), "no-cubes", "()", 5, &[scenario.to_str().unwrap()]);
-    // A bound on a hang (the wait for bodies gives up after 120 s), not a
-    // speed test.
+    // A bound on a hang (each of a scripted run's waits, for the scene to
+    // be drawn and for the pipelines to settle, gives up after 120 s), not
+    // a speed test.
     assert!(took < Duration::from_secs(60), "took {took:?}");
 }
 
@@ -703,7 +704,9 @@ fn a_session_of_tool_actions_replays_headless_to_the_windows_state() {
     // Each action left its mark: the planet is 0 and the ring 1–300, the
     // launch made 301–324, the shot 325 and the breakup of 5 its fragments
     // from 326; 7 was removed. (How many survive depends on how many
-    // updates the run took, which depends on the machine.)
+    // updates the run took, which depends on the machine; fragments and a
+    // missing 5 could also come from a collision, so the session's text is
+    // checked for each kind of event above.)
     let ids: Vec<u64> = window_state
         .lines()
         .skip(1)
