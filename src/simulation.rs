@@ -19,6 +19,11 @@ use crate::systems::{
 /// id past the highest; returns that id.
 pub fn spawn_bodies(world: &mut World, bodies: &[BodyState]) -> u64 {
     spawn_states(world, bodies);
+    next_fresh_id(world, bodies)
+}
+
+/// Sets the next fresh id past the highest of `bodies` and returns it.
+fn next_fresh_id(world: &mut World, bodies: &[BodyState]) -> u64 {
     let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
     world.insert_resource(NextBodyId(next));
     next
@@ -35,7 +40,7 @@ const SPAWN_BATCH: usize = 1 << 16;
 /// the last row of the first into its place), as [`spawn_states`] does in
 /// one call.
 pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 {
-    let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
+    let next = next_fresh_id(world, &bodies);
     let mut marked = Vec::new();
     // The first bodies last, so that each batch comes off the end.
     bodies.reverse();
@@ -54,7 +59,6 @@ pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 
     for (entity, spherical, absorbs) in marked {
         insert_markers(world, entity, spherical, absorbs);
     }
-    world.insert_resource(NextBodyId(next));
     next
 }
 
