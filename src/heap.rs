@@ -12,7 +12,8 @@
 //! [`KEPT_FREE`] (glibc's default, once told where big blocks start, would
 //! hand back all but 128 KiB, so that the scratch an update allocates and
 //! frees, a few MiB at a million bodies, would fault in fresh pages every
-//! update). Buffers the stages keep between updates are allocated once and
+//! update). All threads share one heap ([`HEAPS`]), so that what a worker
+//! frees serves the next block any thread asks for. Buffers the stages keep between updates are allocated once and
 //! are not affected; docs/benchmarks.md ("The update near its limit") has
 //! the measurements. Elsewhere than on Linux with glibc, both functions do
 //! nothing.
@@ -26,16 +27,30 @@ pub const BIG_BLOCK: usize = 1 << 20;
 /// Free memory kept at the top of the heap for the next blocks, in bytes.
 pub const KEPT_FREE: usize = 64 << 20;
 
-/// Makes blocks of [`BIG_BLOCK`] bytes or more mappings of their own and
-/// keeps [`KEPT_FREE`] bytes free at the heap's top, for the whole process.
-/// Called once, first thing, by the binary.
+/// Heaps the allocator keeps, for all threads together. glibc's default
+/// gives threads heaps of their own (up to eight a core), each keeping
+/// what its thread freed: the scratch the workers of a parallel update
+/// allocate and free was then resident once per worker (about 5 MB at a
+/// million bodies on two threads). An update allocates a few blocks a
+/// chunk, so the one heap's lock is not contended.
+pub const HEAPS: usize = 1;
+
+/// Makes blocks of [`BIG_BLOCK`] bytes or more mappings of their own, keeps
+/// [`KEPT_FREE`] bytes free at the heap's top and has every thread share
+/// [`HEAPS`] heap, for the whole process. Called once, first thing, by the
+/// binary, before it starts any thread.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 pub fn hand_back_big_blocks() {
-    for (parameter, bytes) in [(libc::M_MMAP_THRESHOLD, BIG_BLOCK), (libc::M_TRIM_THRESHOLD, KEPT_FREE)] {
+    for (parameter, bytes) in [
+        (libc::M_MMAP_THRESHOLD, BIG_BLOCK),
+        (libc::M_TRIM_THRESHOLD, KEPT_FREE),
+        (libc::M_ARENA_MAX, HEAPS),
+    ] {
         // SAFETY: `mallopt` is glibc's (this function is built for glibc
         // targets only); it takes two plain integers and changes only the
         // allocator's own parameters, under its lock. Thresholds below
-        // `c_int::MAX` are valid; blocks already allocated are unaffected.
+        // `c_int::MAX` and a positive heap count are valid; blocks already
+        // allocated are unaffected.
         #[expect(unsafe_code, reason = "glibc's mallopt, a foreign function")]
         let done = unsafe { libc::mallopt(parameter, bytes as libc::c_int) };
         // On failure (0) the allocator keeps that default: other memory

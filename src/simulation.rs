@@ -18,15 +18,15 @@ use crate::systems::{
 /// Spawns `bodies` (ids must be unique and unused) and sets the next fresh
 /// id past the highest; returns that id.
 pub fn spawn_bodies(world: &mut World, bodies: &[BodyState]) -> u64 {
+    let next = next_fresh_id(bodies);
     spawn_states(world, bodies);
-    next_fresh_id(world, bodies)
-}
-
-/// Sets the next fresh id past the highest of `bodies` and returns it.
-fn next_fresh_id(world: &mut World, bodies: &[BodyState]) -> u64 {
-    let next = bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0);
     world.insert_resource(NextBodyId(next));
     next
+}
+
+/// The next fresh id: past the highest of `bodies`.
+fn next_fresh_id(bodies: &[BodyState]) -> u64 {
+    bodies.iter().map(|b| b.id.0 + 1).max().unwrap_or(0)
 }
 
 /// Bodies moved into the world at a time by [`spawn_owned_bodies`].
@@ -35,12 +35,12 @@ const SPAWN_BATCH: usize = 1 << 16;
 /// Spawns `bodies` as [`spawn_bodies`] does, handing their memory back a
 /// batch at a time as they move into the world, so that a million bodies
 /// are never held twice (64 bytes a body). The world comes out the same:
-/// every body spawned in order first, then the markers of balls and
-/// absorbers inserted in order (each moves its body to another table, and
+/// every body spawned in order first, then the markers of immovable
+/// colliders, balls and absorbers inserted in order (each moves its body to another table, and
 /// the last row of the first into its place), as [`spawn_states`] does in
 /// one call.
 pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 {
-    let next = next_fresh_id(world, &bodies);
+    let next = next_fresh_id(&bodies);
     let mut marked = Vec::new();
     // The first bodies last, so that each batch comes off the end.
     bodies.reverse();
@@ -51,14 +51,17 @@ pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 
         marked.extend(
             entities
                 .zip(&batch)
-                .filter(|(_, body)| body.spherical || body.absorbs)
-                .map(|(entity, body)| (entity, body.spherical, body.absorbs)),
+                .filter(|(_, body)| body.has_markers())
+                .map(|(entity, &body)| (entity, body)),
         );
         bodies.shrink_to_fit();
     }
-    for (entity, spherical, absorbs) in marked {
-        insert_markers(world, entity, spherical, absorbs);
+    for (entity, body) in marked {
+        insert_markers(world, entity, &body);
     }
+    // After the bodies, as in `spawn_bodies`: the resource is an entity
+    // too, and the archetypes must come in the same order.
+    world.insert_resource(NextBodyId(next));
     next
 }
 
@@ -275,7 +278,7 @@ impl Simulation {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::components::{Absorbs, GravityRole, Spherical};
+    use crate::components::{Absorbs, GravityRole, Immovable, Spherical};
     use crate::execution::ExecutionMode;
 
     /// A state that overflows stops the run at that update, in both modes,
@@ -324,7 +327,8 @@ mod tests {
     }
 
     /// Bodies moved into the world in batches make the same world as in
-    /// one call, past one batch and with balls and absorbers among them:
+    /// one call, past one batch and with balls, absorbers and immovable
+    /// colliders among them:
     /// the same bodies in the same tables in the same order, so that sums
     /// in query order (the timeline's totals) keep their bits.
     #[test]
@@ -333,7 +337,7 @@ mod tests {
             .map(|k| BodyState {
                 spherical: k % 9_001 == 5,
                 absorbs: k == 70_000,
-                interacts: k != 70_000,
+                interacts: k != 70_000 && k % 7_919 != 3,
                 ..BodyState::new_box(
                     BodyId(k * 3 + 1),
                     Vec3::new(k as f32, 0.5 * k as f32, -(k as f32)),
@@ -345,11 +349,11 @@ mod tests {
                 )
             })
             .collect();
-        let listed = |world: &mut World| -> Vec<(u64, bool, bool)> {
+        let listed = |world: &mut World| -> Vec<(u64, bool, bool, bool)> {
             world
-                .query::<(&BodyId, Has<Spherical>, Has<Absorbs>)>()
+                .query::<(&BodyId, Has<Spherical>, Has<Absorbs>, Has<Immovable>)>()
                 .iter(world)
-                .map(|(id, ball, absorber)| (id.0, ball, absorber))
+                .map(|(id, ball, absorber, immovable)| (id.0, ball, absorber, immovable))
                 .collect()
         };
         let (mut whole, mut batched) = (World::new(), World::new());
@@ -358,7 +362,8 @@ mod tests {
             spawn_owned_bodies(&mut batched, bodies.clone())
         );
         let order = listed(&mut whole);
-        assert!(order.iter().any(|&(_, ball, _)| ball) && order.iter().any(|&(_, _, absorber)| absorber));
+        assert!(order.iter().any(|&(_, ball, ..)| ball) && order.iter().any(|&(_, _, absorber, _)| absorber));
+        assert!(order.iter().filter(|&&(.., immovable)| immovable).count() > 2);
         assert!(
             order.windows(2).any(|pair| pair[0].0 > pair[1].0),
             "the markers moved rows out of id order"

@@ -1,4 +1,7 @@
-//! The allocator hands big freed blocks back to the system (`heap.rs`).
+//! The allocator hands big freed blocks back to the system and shares one
+//! heap among all threads (`heap.rs`). Its settings hold for the whole
+//! process, so these checks run one after another in `main` (no test
+//! harness, no threads of its own), after the settings, as in the binary.
 
 /// Resident memory of this process, in bytes (Linux's `VmRSS`).
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
@@ -18,13 +21,13 @@ fn resident() -> usize {
     kib * 1024
 }
 
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+const MIB: usize = 1 << 20;
+
 /// Without the setting, glibc serves a block from its heap once a bigger
 /// one was freed, and keeps it resident when it is freed in turn.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
-#[test]
 fn a_freed_big_block_leaves_nothing_resident() {
-    const MIB: usize = 1 << 20;
-    kessler::heap::hand_back_big_blocks();
     drop(std::hint::black_box(vec![1u8; 30 * MIB]));
     let before = resident();
     let block = std::hint::black_box(vec![1u8; 24 * MIB]);
@@ -39,4 +42,56 @@ fn a_freed_big_block_leaves_nothing_resident() {
         after + 20 * MIB <= with,
         "the freed block stayed resident: {with} → {after} bytes"
     );
+}
+
+/// Small blocks (below `BIG_BLOCK`) that one worker frees serve another
+/// worker's: with a heap per thread (glibc's default), the second worker's
+/// blocks would be resident beside the first's freed ones.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn what_one_worker_frees_serves_another() {
+    use std::sync::Barrier;
+    const BLOCK: usize = 64 << 10;
+    const BLOCKS: usize = 24 * MIB / BLOCK;
+    let blocks = || -> Vec<Vec<u8>> { (0..BLOCKS).map(|_| std::hint::black_box(vec![1u8; BLOCK])).collect() };
+    // Both workers alive throughout, as a pool's are; the second allocates
+    // only once the first has freed.
+    let (freed, allocated, done) = (Barrier::new(3), Barrier::new(3), Barrier::new(3));
+    let (before, after) = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            drop(blocks());
+            freed.wait();
+            allocated.wait();
+            done.wait();
+        });
+        scope.spawn(|| {
+            freed.wait();
+            let kept = blocks();
+            allocated.wait();
+            done.wait();
+            drop(kept);
+        });
+        freed.wait();
+        let before = resident();
+        allocated.wait();
+        let after = resident();
+        done.wait();
+        (before, after)
+    });
+    assert!(
+        after < before + 12 * MIB,
+        "the second worker's 24 MiB did not reuse the first's: {before} → {after} bytes"
+    );
+}
+
+fn main() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        kessler::heap::hand_back_big_blocks();
+        a_freed_big_block_leaves_nothing_resident();
+        println!("a freed big block leaves nothing resident: ok");
+        what_one_worker_frees_serves_another();
+        println!("what one worker frees serves another: ok");
+    }
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    println!("heap tests skipped: the settings are glibc's, and this is not Linux with glibc");
 }

@@ -5,7 +5,7 @@ use bevy::prelude::*;
 use bevy::ecs::query::QueryData;
 
 use super::{
-    Absorbs, BodyId, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical, Velocity,
+    Absorbs, BodyId, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition, Spherical, Velocity,
 };
 
 /// The query data a whole [`BodyState`] is read from.
@@ -17,7 +17,7 @@ pub type BodyStateQuery = (
     &'static Mass,
     &'static HalfExtents,
     &'static GravityRole,
-    &'static Interacts,
+    Has<Immovable>,
     Has<Spherical>,
     Has<Absorbs>,
 );
@@ -36,7 +36,6 @@ pub struct BodyBundle {
     pub mass: Mass,
     pub half_extents: HalfExtents,
     pub role: GravityRole,
-    pub interacts: Interacts,
 }
 
 /// A body's state as plain data: what scenarios create, fragments are born
@@ -55,7 +54,7 @@ pub struct BodyState {
     pub half_extents: Vec3,
     /// See [`GravityRole`].
     pub role: GravityRole,
-    /// See [`Interacts`].
+    /// False for an immovable collider (see [`Immovable`]).
     pub interacts: bool,
     /// See [`PreviousPosition`]; a new body's is its position.
     pub previous: Vec3,
@@ -116,7 +115,7 @@ impl BodyState {
 
     /// A body's state from its components.
     pub fn from_components(components: BodyComponents<'_>) -> Self {
-        let (id, position, previous, velocity, mass, half_extents, role, interacts, spherical, absorbs) = components;
+        let (id, position, previous, velocity, mass, half_extents, role, immovable, spherical, absorbs) = components;
         Self {
             id: *id,
             position: position.0,
@@ -124,15 +123,16 @@ impl BodyState {
             mass: mass.0,
             half_extents: half_extents.0,
             role: *role,
-            interacts: interacts.0,
+            interacts: !immovable,
             previous: previous.0,
             spherical,
             absorbs,
         }
     }
 
-    /// The bundle that spawns this body (a ball also needs [`Spherical`],
-    /// an absorber [`Absorbs`]: [`spawn_states`] adds them).
+    /// The bundle that spawns this body (an immovable one also needs
+    /// [`Immovable`], a ball [`Spherical`], an absorber [`Absorbs`]:
+    /// [`spawn_states`] adds them).
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {
             id: self.id,
@@ -142,27 +142,41 @@ impl BodyState {
             mass: Mass(self.mass),
             half_extents: HalfExtents(self.half_extents),
             role: self.role,
-            interacts: Interacts(self.interacts),
         }
+    }
+
+    /// Whether the body needs a marker besides its [`bundle`](Self::bundle).
+    pub fn has_markers(&self) -> bool {
+        !self.interacts || self.spherical || self.absorbs
     }
 }
 
-/// Spawns `bodies` into `world`, each with its markers (a ball's
-/// [`Spherical`], an absorber's [`Absorbs`]), in the order given.
+/// Spawns `bodies` into `world`, each with its markers (an immovable
+/// collider's [`Immovable`], a ball's [`Spherical`], an absorber's
+/// [`Absorbs`]), in the order given.
 pub fn spawn_states(world: &mut World, bodies: &[BodyState]) {
     let entities: Vec<Entity> = world.spawn_batch(bodies.iter().map(BodyState::bundle)).collect();
     for (&entity, body) in entities.iter().zip(bodies) {
-        insert_markers(world, entity, body.spherical, body.absorbs);
+        insert_markers(world, entity, body);
     }
 }
 
-/// Gives a spawned body the markers of a ball ([`Spherical`]) and of an
-/// absorber ([`Absorbs`]) where it is one.
-pub fn insert_markers(world: &mut World, entity: Entity, spherical: bool, absorbs: bool) {
-    if spherical {
-        world.entity_mut(entity).insert(Spherical);
+/// Gives a spawned body its markers: [`Immovable`] where it does not
+/// interact, [`Spherical`] for a ball, [`Absorbs`] for an absorber. Each
+/// moves the body to another table, where it is the last row, so that the
+/// tables' order depends only on the order of the calls.
+pub fn insert_markers(world: &mut World, entity: Entity, body: &BodyState) {
+    if !body.has_markers() {
+        return;
     }
-    if absorbs {
-        world.entity_mut(entity).insert(Absorbs);
+    let mut entity = world.entity_mut(entity);
+    if !body.interacts {
+        entity.insert(Immovable);
+    }
+    if body.spherical {
+        entity.insert(Spherical);
+    }
+    if body.absorbs {
+        entity.insert(Absorbs);
     }
 }

@@ -6,7 +6,7 @@
 use bevy::math::DVec3;
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState, BodyStateQuery, Interacts, spawn_states};
+use crate::components::{BodyId, BodyState, BodyStateQuery, Immovable, spawn_states};
 use crate::maths;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::rng::Rng;
@@ -88,11 +88,10 @@ fn apply_spawn(world: &mut World, spawn: &Spawn, around: &[u64]) -> Result<(), S
         .collect();
     let mut planets: Vec<Body> = Vec::new();
     if !spawn.generators.is_empty() {
-        let mut query = world.query::<(BodyStateQuery, &Interacts)>();
+        let mut query = world.query_filtered::<BodyStateQuery, With<Immovable>>();
         planets = query
             .iter(world)
-            .filter(|(_, interacts)| !interacts.0)
-            .map(|(body, _)| Body::from_state(&BodyState::from_components(body)))
+            .map(|body| Body::from_state(&BodyState::from_components(body)))
             .collect();
         planets.sort_by_key(|b| b.id);
     }

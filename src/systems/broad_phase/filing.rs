@@ -26,12 +26,14 @@ pub struct ChunkCount {
     range: Range<usize>,
     /// The chunk's boxes in each cell.
     per_cell: Vec<u32>,
-    /// The one cell of each box in the chunk, or [`SEVERAL_CELLS`].
-    cells: Vec<u32>,
+    /// The one cell of each box in the chunk, or [`WORK_OUT_AGAIN`]: two
+    /// bytes a box, where the grid has at most 65 536 cells.
+    cells: Vec<u16>,
 }
 
-/// Noted for a box that covers more than one cell.
-const SEVERAL_CELLS: u32 = u32::MAX;
+/// Noted for a box that covers more than one cell, or whose one cell is
+/// the last of the most a grid has (its index does not fit below this).
+const WORK_OUT_AGAIN: u16 = u16::MAX;
 
 /// Kernel: the corners and extents of the boxes in `range` whose index is
 /// a multiple of `stride` (so the sample does not depend on how the boxes
@@ -66,7 +68,7 @@ pub fn corner_bounds<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>) -> (
 /// Kernel: the boxes in `range` counted under every cell they cover, into
 /// the reused `out`. Each box's cell is noted, so that the place pass need
 /// not work it out again; a box covering several cells is noted as
-/// [`SEVERAL_CELLS`] and its cells are worked out again.
+/// [`WORK_OUT_AGAIN`] and its cells are worked out again.
 pub fn count_by_cell<B: BoxSource + ?Sized>(
     boxes: &B,
     range: Range<usize>,
@@ -89,7 +91,8 @@ pub fn count_by_cell<B: BoxSource + ?Sized>(
             count += 1;
             only = cell;
         });
-        cells.push(if count == 1 { only } else { SEVERAL_CELLS });
+        let noted = u16::try_from(only).unwrap_or(WORK_OUT_AGAIN);
+        cells.push(if count == 1 { noted } else { WORK_OUT_AGAIN });
     });
     *counted = range;
     out
@@ -153,7 +156,7 @@ pub fn place_by_cell<B: BoxSource + ?Sized>(boxes: &B, grid: &Grid, placings: &m
                 *slot = CellBox { index: i as u32, aabb };
             };
             match noted.next() {
-                Some(&cell) if cell != SEVERAL_CELLS => place(cell),
+                Some(&cell) if cell != WORK_OUT_AGAIN => place(u32::from(cell)),
                 _ => grid.for_each_cell(&aabb, place),
             }
         });
@@ -203,6 +206,27 @@ mod tests {
             // The tall box covers three cells on y.
             assert_eq!((in_cell(4), in_cell(8), in_cell(12)), (&[2][..], &[2][..], &[2][..]));
             assert_eq!(indices.len(), 7);
+        }
+    }
+
+    #[test]
+    fn boxes_in_the_last_cells_of_the_finest_grid_are_filed_there() {
+        // 256 × 256 cells, the most a grid has: the last cell's index does
+        // not fit in a noted cell, and is worked out again.
+        let grid = Grid::fit(Vec2::ZERO, Vec2::splat(256.0), BOXES_PER_CELL * 65_536);
+        assert_eq!(grid.cell_count(), 65_536);
+        let boxes = [
+            Aabb::new(Vec3::new(0.0, 255.5, 255.5), Vec3::splat(0.1)),
+            Aabb::new(Vec3::new(0.0, 255.5, 254.5), Vec3::splat(0.1)),
+            Aabb::new(Vec3::new(0.0, 0.5, 0.5), Vec3::splat(0.1)),
+            Aabb::new(Vec3::new(1.0, 255.5, 255.5), Vec3::splat(0.1)),
+        ];
+        for cuts in [&[0][..], &[0, 1, 3]] {
+            let (starts, indices) = filed(&boxes, &grid, cuts);
+            let in_cell = |cell: usize| &indices[starts[cell] as usize..starts[cell + 1] as usize];
+            assert_eq!(in_cell(65_535), [0, 3], "cuts {cuts:?}");
+            assert_eq!(in_cell(65_534), [1], "cuts {cuts:?}");
+            assert_eq!(in_cell(0), [2], "cuts {cuts:?}");
         }
     }
 }

@@ -14,7 +14,7 @@ use bevy::prelude::*;
 
 use super::contact::{Outcome, respond, touches};
 use crate::components::{
-    Absorbs, BodyId, BodyState, GravityRole, HalfExtents, Interacts, Mass, Position, PreviousPosition, Spherical,
+    Absorbs, BodyId, BodyState, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition, Spherical,
     Velocity,
 };
 use crate::resources::{NextBodyId, SimulationSettings};
@@ -119,7 +119,7 @@ type ContactQuery<'w, 's> = Query<
         &'static Mass,
         &'static HalfExtents,
         &'static GravityRole,
-        &'static Interacts,
+        Has<Immovable>,
         Has<Spherical>,
         Has<Absorbs>,
     ),

@@ -2,7 +2,7 @@
 
 use bevy::prelude::*;
 
-use crate::components::{BodyId, GravityRole, Interacts};
+use crate::components::{BodyId, GravityRole};
 use crate::systems::OverlappingPairs;
 
 /// What a cube's color shows.
@@ -96,9 +96,9 @@ impl LookTracker {
 }
 
 /// Bodies drawn as spheres rather than cubes: sources that do not collide
-/// (the planet, moons).
-pub fn is_celestial(role: GravityRole, interacts: Interacts) -> bool {
-    role.is_source() && !interacts.0
+/// (the planet, moons: [`Immovable`](crate::components::Immovable)).
+pub fn is_celestial(role: GravityRole, immovable: bool) -> bool {
+    role.is_source() && immovable
 }
 
 #[cfg(test)]
@@ -147,9 +147,9 @@ mod tests {
 
     #[test]
     fn only_non_colliding_sources_are_celestial() {
-        assert!(is_celestial(GravityRole::Source, Interacts(false)));
-        assert!(is_celestial(GravityRole::SourceAndAdopter, Interacts(false)));
-        assert!(!is_celestial(GravityRole::SourceAndAdopter, Interacts(true)));
-        assert!(!is_celestial(GravityRole::Adopter, Interacts(false)));
+        assert!(is_celestial(GravityRole::Source, true));
+        assert!(is_celestial(GravityRole::SourceAndAdopter, true));
+        assert!(!is_celestial(GravityRole::SourceAndAdopter, false));
+        assert!(!is_celestial(GravityRole::Adopter, true));
     }
 }

@@ -11,7 +11,7 @@ use bevy::transform::TransformSystems;
 use super::atmosphere::{AtmosphereMaterial, AtmosphereVisual, ring_mesh};
 use super::body_colors::is_celestial;
 use super::planet_texture::{self, Picture};
-use crate::components::{BodyId, GravityRole, HalfExtents, Interacts, Mass, Position};
+use crate::components::{BodyId, GravityRole, HalfExtents, Immovable, Mass, Position};
 use crate::ui::session::SandboxSettings;
 
 /// A sphere standing for a celestial body.
@@ -127,7 +127,7 @@ type CelestialQuery<'w, 's, F> = Query<
         &'static HalfExtents,
         &'static Mass,
         &'static GravityRole,
-        &'static Interacts,
+        Has<Immovable>,
     ),
     F,
 >;
@@ -141,8 +141,8 @@ fn spawn_celestial_visuals(
     added: CelestialQuery<Added<BodyId>>,
     all: CelestialQuery<()>,
 ) {
-    let celestial = |(.., role, interacts): &(Entity, &Position, &HalfExtents, &Mass, &GravityRole, &Interacts)| {
-        is_celestial(**role, **interacts)
+    let celestial = |&(.., role, immovable): &(Entity, &Position, &HalfExtents, &Mass, &GravityRole, bool)| {
+        is_celestial(*role, immovable)
     };
     if !added.iter().any(|body| celestial(&body)) {
         return;

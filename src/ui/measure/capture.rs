@@ -8,12 +8,12 @@ use std::time::{Duration, Instant};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::ScreenshotCaptured;
 
-use super::frame_stats::{FrameStats, summarize};
+use super::frame_stats::{FrameStats, record_frame_stats, summarize};
 use super::gpu_memory::GpuMemory;
 use super::picture::{save_png, screenshot_of};
 use super::pipelines::PipelinesSettled;
 use crate::bench::{FrameReport, peak_memory};
-use crate::components::{BodyId, GravityRole, Interacts};
+use crate::components::{BodyId, GravityRole, Immovable};
 use crate::draw_method::DrawMethod;
 use crate::output::write_atomically;
 use crate::ui::draw::InstancedBodies;
@@ -37,7 +37,7 @@ pub struct ScriptedRun {
     /// Where to save a screenshot at the end (a new file).
     pub screenshot: Option<PathBuf>,
     /// Since when the run has waited: for the scene to be drawn in full,
-    /// then for the pipelines to settle before it ends.
+    /// for the screenshot, then for the pipelines to settle before it ends.
     pub waiting_since: Instant,
     /// The frame (counted from the app's first) from which frames count:
     /// the first drawn in full; `None` until then.
@@ -76,12 +76,16 @@ impl ScriptedRun {
     }
 
     /// The frames that count, of `all` (every frame time since the app
-    /// started): none before the first frame drawn in full.
+    /// started): the run's `frames` from the first frame drawn in full;
+    /// none before it, nor the frames after them that waited for the
+    /// screenshot or for the pipelines to settle.
     pub fn counted<'a>(&self, all: &'a [f64]) -> &'a [f64] {
-        let first = self
+        let index = |frame: u64| usize::try_from(frame).unwrap_or(usize::MAX).min(all.len());
+        let first = self.first_frame.map_or(all.len(), index);
+        let end = self
             .first_frame
-            .map_or(all.len(), |f| usize::try_from(f).unwrap_or(usize::MAX));
-        &all[first.min(all.len())..]
+            .map_or(all.len(), |f| index(f.saturating_add(self.frames)));
+        &all[first..end]
     }
 
     /// Marks the run to end with `exit` once the pipelines are settled.
@@ -94,8 +98,9 @@ impl ScriptedRun {
     /// given whether the scene is drawn in full (`drawn`: the pipelines
     /// settled and the bodies drawn; read only until the first frame
     /// counts, so a caller may pass `false` after) and whether the
-    /// pipelines are settled
-    /// now. A wait longer than [`READY_TIMEOUT`] goes on as if it were over.
+    /// pipelines are settled now. A wait longer than [`READY_TIMEOUT`] goes
+    /// on as if it were over; a screenshot not captured by then ends the
+    /// run with exit code 1.
     fn step(&mut self, frame: u64, drawn: bool, settled: bool, now: Instant) -> Step {
         let waited_too_long = now.duration_since(self.waiting_since) > READY_TIMEOUT;
         if let Some(exit) = &self.ending {
@@ -108,6 +113,11 @@ impl ScriptedRun {
             return Step::Exit(exit.clone());
         }
         if self.capturing {
+            if waited_too_long {
+                eprintln!("kessler: error: the screenshot was not captured within {READY_TIMEOUT:?}; ending the run");
+                self.end(AppExit::from_code(1), now);
+                return self.step(frame, drawn, settled, now);
+            }
             return Step::Wait;
         }
         let Some(first) = self.first_frame else {
@@ -125,6 +135,7 @@ impl ScriptedRun {
         }
         if self.screenshot.is_some() {
             self.capturing = true;
+            self.waiting_since = now;
             return Step::Capture;
         }
         self.end(AppExit::Success, now);
@@ -140,7 +151,7 @@ impl Plugin for CapturePlugin {
     fn build(&self, app: &mut App) {
         app.insert_resource(self.0.clone())
             .add_systems(Update, scripted_run)
-            .add_systems(Last, report_frames);
+            .add_systems(Last, report_frames.after(record_frame_stats));
     }
 }
 
@@ -156,7 +167,7 @@ fn bodies_ready(settings: &SandboxSettings, cubes: usize, draws: Option<u64>) ->
 }
 
 /// The cubes of the scene: the bodies the instanced pipeline draws.
-type Cubes<'w, 's> = Query<'w, 's, (&'static GravityRole, &'static Interacts), With<BodyId>>;
+type Cubes<'w, 's> = Query<'w, 's, (&'static GravityRole, Has<Immovable>), With<BodyId>>;
 
 /// Counts the frames once the scene is drawn in full, then takes the
 /// screenshot, and ends the app once the pipelines are settled.
@@ -182,7 +193,7 @@ fn scripted_run(
     let drawn = settled && run.first_frame.is_none() && {
         let cubes = cubes
             .iter()
-            .filter(|&(&role, &interacts)| !is_celestial(role, interacts))
+            .filter(|&(&role, immovable)| !is_celestial(role, immovable))
             .count();
         let draws = instanced.iter().map(|InstancedBodies(slot)| slot.draws()).min();
         bodies_ready(&settings, cubes, draws)
@@ -321,8 +332,13 @@ mod tests {
         assert_eq!(run.first_frame, Some(3));
         assert_eq!(steps[..6], vec![Step::Wait; 6]);
         assert_eq!(steps[6], Step::Exit(AppExit::Success));
-        let times: Vec<f64> = (0..7).map(f64::from).collect();
-        assert_eq!(run.counted(&times), &[3.0, 4.0, 5.0, 6.0]);
+        let times: Vec<f64> = (0..8).map(f64::from).collect();
+        assert_eq!(
+            run.counted(&times),
+            &[3.0, 4.0, 5.0],
+            "frames 3, 4 and 5; not the frames after"
+        );
+        assert_eq!(run.counted(&times[..5]), &[3.0, 4.0], "as far as they were timed");
     }
 
     #[test]
@@ -348,6 +364,15 @@ mod tests {
         // A failed save ends with its code.
         run.end(AppExit::from_code(1), now);
         assert_eq!(run.step(5, true, true, now), Step::Exit(AppExit::from_code(1)));
+    }
+
+    #[test]
+    fn a_screenshot_never_captured_ends_the_run_with_an_error() {
+        let mut run = ScriptedRun::new(1, Some(PathBuf::from("shot.png")));
+        let steps = steps(&mut run, &[(true, true), (true, true), (true, true)]);
+        assert_eq!(steps, [Step::Wait, Step::Capture, Step::Wait]);
+        let late = run.waiting_since + READY_TIMEOUT + Duration::from_secs(1);
+        assert_eq!(run.step(3, true, true, late), Step::Exit(AppExit::from_code(1)));
     }
 
     #[test]

@@ -98,7 +98,8 @@ pub fn summarize(times: &[f64], warmup: usize) -> Option<FrameSummary> {
     })
 }
 
-fn record_frame_stats(time: Res<Time<Real>>, timings: Res<StageTimings>, mut stats: ResMut<FrameStats>) {
+/// Records the frame's time and the last update's stage times.
+pub fn record_frame_stats(time: Res<Time<Real>>, timings: Res<StageTimings>, mut stats: ResMut<FrameStats>) {
     stats.record_frame(time.delta_secs_f64());
     if timings.update.samples != stats.last_update_samples {
         stats.last_update_samples = timings.update.samples;

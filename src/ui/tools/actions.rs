@@ -12,7 +12,7 @@ use bevy::prelude::*;
 use serde::Deserialize;
 
 use super::rewind::rewind;
-use crate::components::{BodyId, BodyState, BodyStateQuery, GravityRole, Interacts};
+use crate::components::{BodyId, BodyState, BodyStateQuery, GravityRole};
 use crate::events::{EventLog, record_event};
 use crate::maths;
 use crate::resources::SimulationSettings;
@@ -183,11 +183,11 @@ fn camera_side(world: &mut World, target: Vec3) -> Option<[f32; 3]> {
 
 /// The heaviest body that attracts (the planet a launch orbits).
 fn heaviest_source(world: &mut World) -> Option<BodyState> {
-    let mut query = world.query::<(BodyStateQuery, &GravityRole, &Interacts)>();
+    let mut query = world.query::<BodyStateQuery>();
     query
         .iter(world)
-        .filter(|(_, role, _)| role.is_source())
-        .map(|(body, _, _)| BodyState::from_components(body))
+        .map(BodyState::from_components)
+        .filter(|body| body.role.is_source())
         .max_by(|a, b| a.mass.total_cmp(&b.mass).then(b.id.cmp(&a.id)))
 }
 
