@@ -55,7 +55,11 @@ impl Split for CellRuns<'_> {
 
 /// Kernel: every cell in `runs` put in sweep order where it lies.
 pub fn order_cells(runs: CellRuns<'_>) {
-    let (mut keys, mut ordered) = (Vec::new(), Vec::new());
+    // Scratch for the fullest cell, allocated once: a worker that grew it
+    // cell by cell would take the allocator's lock (one heap for all
+    // threads, see `heap.rs`) a few times a chunk.
+    let fullest = runs.starts.windows(2).map(|run| run[1] - run[0]).max().unwrap_or(0) as usize;
+    let (mut keys, mut ordered) = (Vec::with_capacity(fullest), Vec::with_capacity(fullest));
     let mut rest = runs.boxes;
     for run in runs.starts.windows(2) {
         let (boxes, after) = rest.split_at_mut((run[1] - run[0]) as usize);
