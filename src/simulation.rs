@@ -59,8 +59,9 @@ pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 
     for (entity, body) in marked {
         insert_markers(world, entity, &body);
     }
-    // After the bodies, as in `spawn_bodies`: the resource is an entity
-    // too, and the archetypes must come in the same order.
+    // After the bodies, as in `spawn_bodies`: in a world that does not have
+    // the resource yet, inserting it makes an entity too, and the
+    // archetypes must come in the same order.
     world.insert_resource(NextBodyId(next));
     next
 }

@@ -25,7 +25,8 @@ pub type BodyStateQuery = (
 /// One body's item of [`BodyStateQuery`].
 pub type BodyComponents<'a> = <BodyStateQuery as QueryData>::Item<'a, 'a>;
 
-/// Everything a body is made of, in one bundle.
+/// Everything a body is made of but its markers ([`insert_markers`]), in one
+/// bundle.
 #[derive(Bundle, Clone, Debug)]
 #[expect(missing_docs, reason = "each field is its component, documented there")]
 pub struct BodyBundle {

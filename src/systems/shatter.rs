@@ -411,7 +411,13 @@ fn shatter(
         let [a, b] = &pair.bodies;
         let made = fragments_for(a, b, &settings, BodyId(next_id.0));
         next_id.0 += made.len() as u64;
-        commands.spawn_batch(made.into_iter().map(|f| f.bundle()));
+        commands.spawn_batch(made.into_iter().map(|f| {
+            debug_assert!(
+                !f.has_markers(),
+                "fragments are interacting boxes: no markers to insert"
+            );
+            f.bundle()
+        }));
     }
     clock.finish();
 }

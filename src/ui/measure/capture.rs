@@ -24,8 +24,9 @@ use crate::ui::session::{OffscreenTarget, SandboxSettings};
 /// Frames skipped, after the scene is first drawn in full, before frame
 /// times count (buffers fill, caches warm).
 pub const WARMUP_FRAMES: usize = crate::bench::WINDOW_WARMUP_FRAMES as usize;
-/// Longest a scripted run waits for the scene to be drawn in full, and for
-/// the pipelines to settle before it ends (shader compilation under
+/// Longest a scripted run waits for the scene to be drawn in full, for its
+/// screenshot, and for the pipelines to settle before it ends; and longest
+/// a film's picture waits for the pipelines (shader compilation under
 /// software rendering is slow).
 pub const READY_TIMEOUT: Duration = Duration::from_secs(120);
 
@@ -75,17 +76,19 @@ impl ScriptedRun {
         }
     }
 
-    /// The frames that count, of `all` (every frame time since the app
-    /// started): the run's `frames` from the first frame drawn in full;
-    /// none before it, nor the frames after them that waited for the
+    /// The times of the frames that count, of `all` (the time recorded in
+    /// each frame since the app started, which is the frame before's: Bevy's
+    /// real-time delta): the run's `frames` from the first frame drawn in
+    /// full; none before it, nor the frames after them that waited for the
     /// screenshot or for the pipelines to settle.
     pub fn counted<'a>(&self, all: &'a [f64]) -> &'a [f64] {
         let index = |frame: u64| usize::try_from(frame).unwrap_or(usize::MAX).min(all.len());
-        let first = self.first_frame.map_or(all.len(), index);
-        let end = self
-            .first_frame
-            .map_or(all.len(), |f| index(f.saturating_add(self.frames)));
-        &all[first..end]
+        let Some(first) = self.first_frame else {
+            return &[];
+        };
+        // Frame `first`'s time is recorded in frame `first + 1`.
+        let start = first.saturating_add(1);
+        &all[index(start)..index(start.saturating_add(self.frames))]
     }
 
     /// Marks the run to end with `exit` once the pipelines are settled.
@@ -207,6 +210,10 @@ fn scripted_run(
             let path = run.screenshot.clone().unwrap_or_default();
             commands.spawn(screenshot_of(target.as_deref())).observe(
                 move |captured: On<ScreenshotCaptured>, mut run: ResMut<ScriptedRun>| {
+                    // Too late: the run gave up waiting and ends with an error.
+                    if run.ending.is_some() {
+                        return;
+                    }
                     let exit = match save_png(&captured.image, &path) {
                         Ok(()) => {
                             eprintln!("kessler: screenshot saved to {}", path.display());
@@ -332,13 +339,14 @@ mod tests {
         assert_eq!(run.first_frame, Some(3));
         assert_eq!(steps[..6], vec![Step::Wait; 6]);
         assert_eq!(steps[6], Step::Exit(AppExit::Success));
+        // Each frame's time is recorded in the next frame: frame 3's at 4.
         let times: Vec<f64> = (0..8).map(f64::from).collect();
         assert_eq!(
             run.counted(&times),
-            &[3.0, 4.0, 5.0],
+            &[4.0, 5.0, 6.0],
             "frames 3, 4 and 5; not the frames after"
         );
-        assert_eq!(run.counted(&times[..5]), &[3.0, 4.0], "as far as they were timed");
+        assert_eq!(run.counted(&times[..6]), &[4.0, 5.0], "as far as they were timed");
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! Films (`kessler run --frames-out DIR --every K`): a numbered PNG of the
 //! window (or the offscreen image) every K updates — at most one a frame,
 //! so a frame that runs past several multiples of K gives one picture; the
-//! first once the pipelines are compiled, each in a frame with none compiling.
+//! first once the pipelines are compiled, each in a frame with none compiling
+//! (until one has waited [`READY_TIMEOUT`] for that).
 
 use std::path::PathBuf;
 use std::time::Instant;
