@@ -26,20 +26,17 @@ fn main() {
     // The commit moves when HEAD names another branch, when the branch's
     // ref file (or, once packed, `packed-refs`) changes, and the tree's
     // state with the index: watch each file itself (a folder's time does
-    // not change when a file inside it does).
-    let mut watched = vec![
-        ".git/HEAD".to_owned(),
-        ".git/index".to_owned(),
-        ".git/packed-refs".to_owned(),
-    ];
-    if let Some(branch) = std::fs::read_to_string(".git/HEAD")
-        .ok()
-        .and_then(|head| head.trim().strip_prefix("ref: ").map(str::to_owned))
-    {
-        watched.push(format!(".git/{branch}"));
-    }
-    for path in watched {
-        if std::path::Path::new(&path).exists() {
+    // not change when a file inside it does). Git says where each lives: in
+    // a worktree `.git` is a file, HEAD and the index are the worktree's
+    // own and the refs are shared. (Two checkouts of the same package
+    // built into one target folder share this script's last run, and with
+    // it the files it watched: after building the other, `touch build.rs`.)
+    let mut watched = vec!["HEAD".to_owned(), "index".to_owned(), "packed-refs".to_owned()];
+    watched.extend(output_of("git", &["symbolic-ref", "-q", "HEAD"]));
+    for name in watched {
+        if let Some(path) = output_of("git", &["rev-parse", "--git-path", &name])
+            && std::path::Path::new(&path).exists()
+        {
             println!("cargo:rerun-if-changed={path}");
         }
     }

@@ -6,17 +6,17 @@
 //! that doubles as shattering spawns fragments then leaves its old copy
 //! resident beside the new one, and the temporaries of loading a scene stay
 //! resident for the whole run. [`hand_back_big_blocks`] makes every block
-//! of [`BIG_BLOCK`] (1 MiB) or more a mapping of its own: freed, it goes back to the
-//! system at once, and grown, it is moved by the kernel without a copy.
-//! Smaller blocks stay on the heap, and its free top is kept up to
+//! of [`BIG_BLOCK`] (1 MiB) or more a mapping of its own: freed, it goes
+//! back to the system at once, and grown, it is moved by the kernel without
+//! a copy. Smaller blocks stay on the heap, and its free top is kept up to
 //! [`KEPT_FREE`] (glibc's default, once told where big blocks start, would
 //! hand back all but 128 KiB, so that the scratch an update allocates and
 //! frees, a few MiB at a million bodies, would fault in fresh pages every
 //! update). All threads share one heap ([`HEAPS`]), so that what a worker
-//! frees serves the next block any thread asks for. Buffers the stages keep between updates are allocated once and
-//! are not affected; docs/benchmarks.md ("The update near its limit") has
-//! the measurements. Elsewhere than on Linux with glibc, both functions do
-//! nothing.
+//! frees serves the next block any thread asks for. Buffers the stages keep
+//! between updates are allocated once and are not affected;
+//! docs/benchmarks.md ("The update near its limit") has the measurements.
+//! Elsewhere than on Linux with glibc, both functions do nothing.
 
 /// The smallest block given a mapping of its own, in bytes. The scratch an
 /// update allocates and frees stays below it (the filing's slots, 16 bytes

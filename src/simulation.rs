@@ -36,9 +36,9 @@ const SPAWN_BATCH: usize = 1 << 16;
 /// batch at a time as they move into the world, so that a million bodies
 /// are never held twice (64 bytes a body). The world comes out the same:
 /// every body spawned in order first, then the markers of immovable
-/// colliders, balls and absorbers inserted in order (each moves its body to another table, and
-/// the last row of the first into its place), as [`spawn_states`] does in
-/// one call.
+/// colliders, balls and absorbers inserted in order (each moves its body to
+/// another table, and the last row of the first into its place), as
+/// [`spawn_states`] does in one call.
 pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 {
     let next = next_fresh_id(&bodies);
     let mut marked = Vec::new();

@@ -19,9 +19,6 @@ use crate::resources::GravityMethod;
 use crate::scenario::Scenario;
 use crate::user_files::default_calibration_path;
 
-/// Threads of the bare dispatch measurement.
-const EMPTY_STEP_THREADS: [usize; 2] = [1, 2];
-
 /// Runs the command: load and check everything, measure, write. `gravity`
 /// replaces the scenario's gravity method in every run.
 pub fn bench(
@@ -105,16 +102,20 @@ pub fn bench(
     Ok(())
 }
 
-/// The bare cost of a parallel step on 1 and 2 threads of Kessler's pool,
-/// and on Bevy's `ComputeTaskPool` (with the threads it has), as overhead
-/// rows.
+/// The bare cost of a parallel step as overhead rows: on Bevy's
+/// `ComputeTaskPool` (with the threads it has), and on Kessler's pool with
+/// 1, 2, Bevy's count (the same threads side by side) and every hardware
+/// thread.
 fn measure_empty_steps() -> Result<Vec<OverheadRow>, Failure> {
     let bevy_threads = Execution::new(ExecutionMode::Parallel, available_threads())?
         .with_pool(WorkerPool::Bevy)
         .threads_used();
-    EMPTY_STEP_THREADS
-        .iter()
-        .map(|&threads| (threads, WorkerPool::Kessler))
+    let mut kessler_threads = vec![1, 2, bevy_threads, available_threads()];
+    kessler_threads.sort_unstable();
+    kessler_threads.dedup();
+    kessler_threads
+        .into_iter()
+        .map(|threads| (threads, WorkerPool::Kessler))
         .chain(std::iter::once((bevy_threads, WorkerPool::Bevy)))
         .map(|(threads, pool)| {
             let (split, whole) = empty_step_ns(threads, pool)?;

@@ -8,7 +8,6 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use bevy::prelude::*;
 use bevy::render::renderer::{RenderAdapterInfo, RenderDevice};
-use bevy::render::{Render, RenderApp, RenderSystems};
 
 use crate::ui::draw::BodyInstanceBuffer;
 
@@ -46,13 +45,7 @@ pub struct GpuMemoryPlugin;
 
 impl Plugin for GpuMemoryPlugin {
     fn build(&self, app: &mut App) {
-        let memory = GpuMemory::default();
-        app.insert_resource(memory.clone());
-        if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
-            render_app
-                .insert_resource(memory)
-                .add_systems(Render, read_gpu_memory.in_set(RenderSystems::Cleanup));
-        }
+        super::share_with_render_world(app, GpuMemory::default(), read_gpu_memory);
     }
 }
 

@@ -15,7 +15,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy::prelude::*;
 use bevy::render::render_resource::PipelineCache;
-use bevy::render::{Render, RenderApp, RenderSystems};
 
 /// True when, at the end of the last rendered frame, no pipeline was queued
 /// or compiling. Written by the render world, read by the main world.
@@ -38,13 +37,7 @@ pub struct PipelinesPlugin;
 
 impl Plugin for PipelinesPlugin {
     fn build(&self, app: &mut App) {
-        let settled = PipelinesSettled::default();
-        app.insert_resource(settled.clone());
-        if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
-            render_app
-                .insert_resource(settled)
-                .add_systems(Render, note_pipelines.in_set(RenderSystems::Cleanup));
-        }
+        super::share_with_render_world(app, PipelinesSettled::default(), note_pipelines);
     }
 }
 

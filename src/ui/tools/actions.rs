@@ -12,7 +12,7 @@ use bevy::prelude::*;
 use serde::Deserialize;
 
 use super::rewind::rewind;
-use crate::components::{BodyId, BodyState, BodyStateQuery, GravityRole};
+use crate::components::{BodyId, BodyState, BodyStateQuery, GravityRole, Mass};
 use crate::events::{EventLog, record_event};
 use crate::maths;
 use crate::resources::SimulationSettings;
@@ -183,12 +183,13 @@ fn camera_side(world: &mut World, target: Vec3) -> Option<[f32; 3]> {
 
 /// The heaviest body that attracts (the planet a launch orbits).
 fn heaviest_source(world: &mut World) -> Option<BodyState> {
-    let mut query = world.query::<BodyStateQuery>();
-    query
+    let mut sources = world.query::<(Entity, &BodyId, &Mass, &GravityRole)>();
+    let (heaviest, ..) = sources
         .iter(world)
-        .map(BodyState::from_components)
-        .filter(|body| body.role.is_source())
-        .max_by(|a, b| a.mass.total_cmp(&b.mass).then(b.id.cmp(&a.id)))
+        .filter(|(.., role)| role.is_source())
+        .max_by(|(_, a_id, a, _), (_, b_id, b, _)| a.0.total_cmp(&b.0).then(b_id.cmp(a_id)))?;
+    let mut bodies = world.query::<BodyStateQuery>();
+    bodies.get(world, heaviest).ok().map(BodyState::from_components)
 }
 
 /// `count` satellites evenly spaced on a circular orbit `altitude` above
