@@ -471,6 +471,13 @@ mod tests {
             shows: moved,
         },
         Effect {
+            key: "integrator",
+            changed: "SemiImplicitEuler",
+            scene: PULLING,
+            what: "where the pulls are summed and how far each update moves",
+            shows: moved,
+        },
+        Effect {
             key: "softening",
             changed: "10.0",
             scene: PULLING,

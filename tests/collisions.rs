@@ -393,10 +393,11 @@ fn thesis_cloud_dumps_are_identical_in_both_modes() {
     assert_dumps_identical("thesis_cloud.ron", 1);
 }
 
-/// 3000 cubes with thousands of shatters: byte-identical dumps.
+/// 3000 cubes with hundreds of shatters (the leapfrog's: about 300 in 300
+/// updates; semi-implicit Euler made about 1 600): byte-identical dumps.
 #[test]
 fn cascade_dumps_are_identical_in_both_modes() {
-    assert_dumps_identical("cascade.ron", 1000);
+    assert_dumps_identical("cascade.ron", 250);
 }
 
 /// Split policies that split some stages and not others, at body counts

@@ -1,6 +1,7 @@
 //! Gravity and integration against analytic expectations: the thesis's
-//! orbit cases, exact cancellation between symmetric sources, and energy
-//! conservation of an eccentric orbit.
+//! orbit cases under both integrators, exact cancellation between
+//! symmetric sources, the leapfrog's round orbits, bounded energy and
+//! Kepler's period, and energy conservation of an eccentric orbit.
 
 use kessler::Simulation;
 use kessler::execution::{Execution, ExecutionMode};
@@ -12,11 +13,15 @@ fn sim(text: &str) -> Simulation {
     Simulation::from_scenario(&scenario, execution).unwrap()
 }
 
+/// The integrators, as scenario files name them.
+const INTEGRATORS: [&str; 2] = ["Leapfrog", "SemiImplicitEuler"];
+
 /// A source of `mass` at the origin and an adopter at `position` with
-/// `velocity` (the thesis's test set-up, G = 6.674, dt = 1).
-fn two_body(mass: f32, position: [f32; 3], velocity: [f32; 3]) -> Simulation {
+/// `velocity` (the thesis's test set-up, G = 6.674, dt = 1), moved by
+/// `integrator`.
+fn two_body(integrator: &str, mass: f32, position: [f32; 3], velocity: [f32; 3]) -> Simulation {
     sim(&format!(
-        "Scenario(bodies: [
+        "Scenario(integrator: {integrator}, bodies: [
             Body(position: (0, 0, 0), mass: {mass}, role: Source, interacts: false),
             Body(position: ({}, {}, {}), velocity: ({}, {}, {})),
         ])",
@@ -25,9 +30,16 @@ fn two_body(mass: f32, position: [f32; 3], velocity: [f32; 3]) -> Simulation {
 }
 
 /// Each case is a circular orbit (v² = G·M/r) whose period rounds to the
-/// update count: after one revolution the body is back where it started.
+/// update count: after one revolution the body is back where it started,
+/// under either integrator.
 #[test]
 fn thesis_orbits_return_after_one_period() {
+    for integrator in INTEGRATORS {
+        thesis_orbits_under(integrator);
+    }
+}
+
+fn thesis_orbits_under(integrator: &str) {
     let cases = [
         // mass, start, velocity, updates, axis of the start coordinate
         (2.0, [20.0, 0.0, 0.0], [0.0, 0.81694555, 0.0], 154, 0),
@@ -43,19 +55,19 @@ fn thesis_orbits_return_after_one_period() {
             "case mass {mass} is not circular"
         );
 
-        let mut s = two_body(mass, start, velocity);
+        let mut s = two_body(integrator, mass, start, velocity);
         s.step(updates);
         let body = s.snapshot()[1];
         let end = body.position.to_array();
         assert_eq!(
             end[axis].round(),
             r,
-            "mass {mass}: after {updates} updates the body is at {end:?}"
+            "{integrator}, mass {mass}: after {updates} updates the body is at {end:?}"
         );
         // Still on the circle.
         assert!(
             (body.position.length() - r).abs() < 0.01 * r,
-            "mass {mass}: radius drifted to {}",
+            "{integrator}, mass {mass}: radius drifted to {}",
             body.position.length()
         );
     }
@@ -94,15 +106,15 @@ fn inert_and_non_adopting_bodies_only_drift() {
     assert!(b[3].position.z < 50.0, "a SourceAndAdopter falls towards the sources");
 }
 
-/// Semi-implicit Euler is symplectic: the energy of an eccentric orbit
-/// oscillates but does not drift, over 60 revolutions.
+/// Semi-implicit Euler (the thesis's) is symplectic: the energy of an
+/// eccentric orbit oscillates but does not drift, over 60 revolutions.
 #[test]
 fn eccentric_orbit_energy_stays_bounded() {
     let (gm, r0) = (6.674_f64 * 6.0, 36.0_f64);
     let v0 = 0.8 * (gm / r0).sqrt(); // 0.8 × circular speed: eccentricity 0.36
     let dt = 0.25;
     let mut s = sim(&format!(
-        "Scenario(time_step: {dt}, bodies: [
+        "Scenario(time_step: {dt}, integrator: SemiImplicitEuler, bodies: [
             Body(position: (0, 0, 0), mass: 6, role: Source, interacts: false),
             Body(position: ({r0}, 0, 0), velocity: (0, 0, {v0})),
         ])"
@@ -201,4 +213,145 @@ fn a_virialised_cluster_keeps_its_energy_under_the_tree() {
             "energy {now} drifted from {start}"
         );
     }
+}
+
+/// The default scene's orbits: radius 200 at 5 units an update (dt = 1),
+/// so `G·M = v²·r = 5000`; with G = 6.674 the planet's mass is 5000/G.
+const GM: f64 = 5000.0;
+const RADIUS: f64 = 200.0;
+
+/// A planet of `G·M` = [`GM`] at the origin and a cube at (r, 0, 0) moving
+/// along y at `speed`, moved by `integrator` for `updates` updates: the
+/// cube's distance from the planet and its specific energy
+/// `v²/2 − G·M/r` after each update, in f64.
+fn orbit(integrator: &str, speed: f64, updates: u64) -> Vec<(f64, f64)> {
+    let mass = GM / 6.674;
+    let mut s = sim(&format!(
+        "Scenario(integrator: {integrator}, bodies: [
+            Body(position: (0, 0, 0), mass: {mass}, role: Source, interacts: false),
+            Body(position: ({RADIUS}, 0, 0), velocity: (0, {speed}, 0)),
+        ])"
+    ));
+    (0..updates)
+        .map(|_| {
+            s.step(1);
+            let b = s.snapshot()[1];
+            let (p, v) = (b.position.as_dvec3(), b.velocity.as_dvec3());
+            (p.length(), v.length_squared() / 2.0 - GM / p.length())
+        })
+        .collect()
+}
+
+/// The widest swing of the distance from `r0`, as a share of it.
+fn radial_band(track: &[(f64, f64)], r0: f64) -> f64 {
+    track.iter().map(|(r, _)| ((r - r0) / r0).abs()).fold(0.0, f64::max)
+}
+
+/// A circular orbit at the default step stays within 0.1 % of its radius
+/// over three orbits with the leapfrog; semi-implicit Euler, first order,
+/// swings by more than 1 % (about 2.5 %: more than a cube's edge).
+#[test]
+fn the_leapfrog_keeps_a_circular_orbit_round() {
+    let circular = (GM / RADIUS).sqrt();
+    let period = std::f64::consts::TAU * RADIUS / circular;
+    let updates = (3.0 * period).ceil() as u64;
+    let leapfrog = radial_band(&orbit("Leapfrog", circular, updates), RADIUS);
+    let euler = radial_band(&orbit("SemiImplicitEuler", circular, updates), RADIUS);
+    assert!(
+        leapfrog < 1e-3,
+        "leapfrog: the radius swung by {:.4} %",
+        leapfrog * 100.0
+    );
+    assert!(euler > 1e-2, "Euler: the radius swung by only {:.4} %", euler * 100.0);
+}
+
+/// An eccentric orbit (1.15 × circular speed) over 20 orbits: the
+/// leapfrog's energy error stays within 2e-3 of the analytic start value,
+/// with no drift between the first and the last three orbits.
+#[test]
+fn the_leapfrogs_energy_stays_bounded_without_drift() {
+    let v0 = 1.15 * (GM / RADIUS).sqrt();
+    let e0 = v0 * v0 / 2.0 - GM / RADIUS;
+    let a = -GM / (2.0 * e0);
+    let period = std::f64::consts::TAU * (a * a * a / GM).sqrt();
+    let orbits = 20;
+    let track = orbit("Leapfrog", v0, (orbits as f64 * period).ceil() as u64);
+    let errors: Vec<f64> = track.iter().map(|(_, e)| (e - e0) / e0.abs()).collect();
+    let worst = errors.iter().fold(0.0, |w: f64, e| w.max(e.abs()));
+    assert!(
+        worst < 2e-3,
+        "energy strayed {:.4} % from the analytic value",
+        worst * 100.0
+    );
+    let span = (3.0 * period) as usize;
+    let mean = |xs: &[f64]| xs.iter().sum::<f64>() / xs.len() as f64;
+    let drift = mean(&errors[errors.len() - span..]) - mean(&errors[..span]);
+    assert!(
+        drift.abs() < 1e-4,
+        "energy drifted by {drift:e} of itself over {orbits} orbits"
+    );
+}
+
+/// Kepler's third law: the leapfrog's eccentric orbit comes back to its
+/// start angle every `2π·sqrt(a³/GM)` (a from the analytic energy), to
+/// within 0.1 % (second order: the error at this step is about 1e-5).
+#[test]
+fn the_leapfrogs_period_is_keplers() {
+    let v0 = 1.15 * (GM / RADIUS).sqrt();
+    let e0 = v0 * v0 / 2.0 - GM / RADIUS;
+    let a = -GM / (2.0 * e0);
+    let kepler = std::f64::consts::TAU * (a * a * a / GM).sqrt();
+    let mass = GM / 6.674;
+    let mut s = sim(&format!(
+        "Scenario(bodies: [
+            Body(position: (0, 0, 0), mass: {mass}, role: Source, interacts: false),
+            Body(position: ({RADIUS}, 0, 0), velocity: (0, {v0}, 0)),
+        ])"
+    ));
+    // The times the cube crosses the +x axis upwards (y from < 0 to >= 0,
+    // x > 0), each between two updates by linear interpolation.
+    let mut crossings = Vec::new();
+    let mut before = s.snapshot()[1].position.as_dvec3();
+    for update in 1..=(5.2 * kepler) as u64 {
+        s.step(1);
+        let now = s.snapshot()[1].position.as_dvec3();
+        if before.y < 0.0 && now.y >= 0.0 && now.x > 0.0 {
+            crossings.push(update as f64 - 1.0 + before.y / (before.y - now.y));
+        }
+        before = now;
+    }
+    assert_eq!(crossings.len(), 5, "five returns in 5.2 periods");
+    let measured = (crossings[4] - crossings[0]) / 4.0;
+    assert!(
+        ((measured - kepler) / kepler).abs() < 1e-3,
+        "period {measured} updates, Kepler's {kepler}"
+    );
+}
+
+/// Switching integrators is defined between any two updates: a `Set`
+/// event at update 40 gives the bits of a run switched by hand there.
+#[test]
+fn the_integrator_switches_between_updates() {
+    let body = "bodies: [
+        Body(position: (0, 0, 0), mass: 700, role: Source, interacts: false),
+        Body(position: (200, 0, 0), velocity: (0, 5.1, 0.3)),
+    ]";
+    let mut by_event = sim(&format!(
+        "Scenario({body}, events: [Set(update: 40, integrator: SemiImplicitEuler)])"
+    ));
+    let mut by_hand = sim(&format!("Scenario({body})"));
+    by_event.step(80);
+    by_hand.step(40);
+    let (leapfrog_at_40, mut leapfrog_on) = (by_hand.snapshot(), sim(&format!("Scenario({body})")));
+    by_hand.settings_mut().integrator = kessler::resources::Integrator::SemiImplicitEuler;
+    by_hand.step(40);
+    leapfrog_on.step(80);
+    let bits = |s: &mut Simulation| s.snapshot()[1].position.to_array().map(f32::to_bits);
+    assert_eq!(bits(&mut by_event), bits(&mut by_hand));
+    assert_ne!(
+        bits(&mut by_event),
+        bits(&mut leapfrog_on),
+        "the switch changed the run"
+    );
+    assert_ne!(leapfrog_at_40[1].position, by_hand.snapshot()[1].position);
 }

@@ -3,6 +3,7 @@
 mod body_ids;
 mod fragment_sizes;
 mod gravity_method;
+mod integrator;
 mod memory_budget;
 mod setting_value;
 mod settings;
@@ -10,6 +11,7 @@ mod settings;
 pub use body_ids::{MAX_ID, NextBodyId};
 pub use fragment_sizes::{FragmentSizes, MAX_EXPONENT};
 pub use gravity_method::{AUTO_TREE_FROM, BadGravityMethod, DEFAULT_THETA, GravityMethod, MAX_THETA};
+pub use integrator::Integrator;
 pub use memory_budget::{MemoryBudget, gigabytes};
 pub use setting_value::{SettingValue, problem};
 pub use settings::{

@@ -7,7 +7,7 @@ use std::fmt::Debug;
 use serde::de::{Deserializer, Error};
 use serde::{Deserialize, Serialize};
 
-use super::{FragmentSizes, GravityMethod};
+use super::{FragmentSizes, GravityMethod, Integrator};
 use crate::input::{f32_where, shown_number, whole};
 
 /// A physics setting's type.
@@ -119,6 +119,28 @@ impl SettingValue for GravityMethod {
                     format!("Tree(theta: {})", shown_number(theta)),
                 ),
             },
+        )
+    }
+}
+
+impl SettingValue for Integrator {
+    fn shown(&self) -> String {
+        self.name().to_owned()
+    }
+
+    fn read_checked<'de, D: Deserializer<'de>>(
+        d: D,
+        field: &str,
+        rule: &str,
+        ok: impl Fn(Self) -> bool,
+    ) -> Result<Self, D::Error> {
+        read_wide(
+            d,
+            field,
+            rule,
+            "write `Leapfrog` or `SemiImplicitEuler`",
+            ok,
+            |value: Self| (value, value.name().to_owned()),
         )
     }
 }

@@ -13,7 +13,7 @@ use serde::de::{Error, MapAccess};
 use serde::ser::SerializeStruct;
 
 use super::setting_value::{SettingValue, problem};
-use super::{FragmentSizes, GravityMethod};
+use super::{FragmentSizes, GravityMethod, Integrator};
 
 /// Most bodies one run may hold: about 200 bytes each in memory, so this
 /// bounds a run to a few GiB.
@@ -72,6 +72,9 @@ macro_rules! physics_settings {
             /// Simulated time per update, `dt`.
             time_step: f32 = 1.0,
                 "finite, > 0 and at most 1e3", |v| v > 0.0 && v <= MAX_TIME_STEP, OnRestart;
+            /// How an update moves the bodies: `Leapfrog` (drift–kick–drift, second order) or `SemiImplicitEuler` (the thesis: kick, then drift).
+            integrator: Integrator = Integrator::Leapfrog,
+                "Leapfrog or SemiImplicitEuler", |_| true, Live;
             /// Softening length `ε`: gravity uses `(r² + ε²)^{3/2}`; 0 means none.
             softening: f32 = 0.0,
                 "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v), OnRestart;

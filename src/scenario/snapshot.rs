@@ -214,6 +214,7 @@ mod tests {
         let settings = SimulationSettings {
             gravitational_constant: 0.25,
             time_step: 0.125,
+            integrator: crate::resources::Integrator::SemiImplicitEuler,
             softening: 3.5,
             gravity_method: GravityMethod::Tree { theta: 0.75 },
             shatter_threshold: 0.0,

@@ -1,9 +1,11 @@
-//! The integrate stage: semi-implicit Euler (docs/design.md, "Integration").
+//! The integrate stage: the drift (docs/design.md, "Integration").
 //!
 //! Adopters have already taken their kick `v += a·dt` in the gravity stage
-//! (so no acceleration is stored); here every body moves `p += v·dt`, the
-//! new velocity moving it, and the position before the move is kept for the
-//! collision response.
+//! (so no acceleration is stored); here every body moves with its new
+//! velocity: a whole step `p += v·dt` with semi-implicit Euler, keeping the
+//! position before the move for the collision response, or, with the
+//! leapfrog, the second half `p += v·dt/2` after the gravity stage's first
+//! (which kept the previous position).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -11,7 +13,7 @@ use bevy::prelude::*;
 
 use crate::components::{BodyId, Position, PreviousPosition, Velocity};
 use crate::execution::WorkerPool;
-use crate::resources::SimulationSettings;
+use crate::resources::{Integrator, SimulationSettings};
 use crate::systems::{SimulationFault, SimulationSystems, SimulationUpdate, Stage, first_non_finite};
 
 /// The columns the integration kernel reads and writes.
@@ -26,16 +28,48 @@ impl Plugin for IntegratePlugin {
     }
 }
 
-/// Kernel: the drift of the semi-implicit Euler step for the bodies in the
-/// columns, with the velocities the gravity stage's kick left: the position
-/// is kept as the previous one, then moves by `v·dt`. Returns whether every
-/// new position and velocity is finite (the check costs next to nothing in
-/// this pass over the same data).
-pub fn integrate_kernel((velocities, positions, previous): IntegrateColumns<'_>, dt: f32) -> bool {
+/// How much of an update's drift the integrate stage makes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Drift {
+    /// All of it, `p += v·dt`, keeping the position before as the previous
+    /// one: semi-implicit Euler, and either integrator while the gravity
+    /// stage is off (with no kick, the leapfrog's two halves are one
+    /// straight step).
+    Whole,
+    /// The second half, `p += v·dt/2`: the leapfrog, whose first half the
+    /// gravity stage made (keeping the previous position) before its kick.
+    SecondHalf,
+}
+
+impl Drift {
+    /// The drift the integrate stage makes under `settings`.
+    pub fn of(settings: &SimulationSettings) -> Self {
+        if settings.gravity && settings.integrator == Integrator::Leapfrog {
+            Self::SecondHalf
+        } else {
+            Self::Whole
+        }
+    }
+}
+
+/// Kernel: the drift for the bodies in the columns, with the velocities the
+/// gravity stage's kick left: [`Drift::Whole`] keeps the position as the
+/// previous one, then moves it by `v·dt`; [`Drift::SecondHalf`] moves it by
+/// `v·dt/2` and leaves the previous one. Returns whether every new position
+/// and velocity is finite (the check costs next to nothing in this pass
+/// over the same data).
+pub fn integrate_kernel((velocities, positions, previous): IntegrateColumns<'_>, dt: f32, drift: Drift) -> bool {
     let mut finite = true;
+    let step = match drift {
+        Drift::Whole => dt,
+        Drift::SecondHalf => dt * 0.5,
+    };
+    let keep_previous = drift == Drift::Whole;
     for ((v, p), prev) in velocities.iter().zip(positions).zip(previous) {
-        prev.0 = p.0;
-        p.0 += v.0 * dt;
+        if keep_previous {
+            prev.0 = p.0;
+        }
+        p.0 += v.0 * step;
         // With `dt` finite, a non-finite velocity makes the new position
         // non-finite too (∞·dt, NaN·dt; ∞·0 is NaN), so the position alone
         // tells; tested component by component without a branch.
@@ -52,7 +86,7 @@ fn integrate(
     mut fault: ResMut<SimulationFault>,
 ) {
     let clock = stage.start(SimulationSystems::Integrate);
-    let dt = settings.time_step;
+    let (dt, drift) = (settings.time_step, Drift::of(&settings));
     let execution = clock.execution(bodies.iter().len());
     let finite = if execution.splits() && execution.pool() == WorkerPool::Bevy {
         // Bevy's own way for a stage that is per body: `par_iter_mut` on
@@ -67,7 +101,7 @@ fn integrate(
                     std::slice::from_mut(position.bypass_change_detection()),
                     std::slice::from_mut(previous.bypass_change_detection()),
                 );
-                if !integrate_kernel(one, dt) {
+                if !integrate_kernel(one, dt, drift) {
                     all_finite.store(false, Ordering::Relaxed);
                 }
             });
@@ -82,7 +116,7 @@ fn integrate(
                 previous.bypass_change_detection(),
             );
             finite &= execution
-                .map_chunks(columns, |columns| integrate_kernel(columns, dt))
+                .map_chunks(columns, |columns| integrate_kernel(columns, dt, drift))
                 .into_iter()
                 .all(|chunk| chunk);
         }
@@ -105,7 +139,7 @@ mod tests {
         let v = [Velocity(Vec3::new(1.0, -2.0, 0.0)), Velocity(Vec3::ZERO)];
         let mut p = [Position(Vec3::new(10.0, 0.0, 0.0)), Position(Vec3::new(3.0, 4.0, 5.0))];
         let mut prev = [PreviousPosition::default(); 2];
-        assert!(integrate_kernel((&v, &mut p, &mut prev), 0.5));
+        assert!(integrate_kernel((&v, &mut p, &mut prev), 0.5, Drift::Whole));
         assert_eq!(p[0].0, Vec3::new(10.5, -1.0, 0.0));
         assert_eq!(prev[0].0, Vec3::new(10.0, 0.0, 0.0));
         // A body at rest (a planet) stays put.
@@ -115,14 +149,46 @@ mod tests {
         );
     }
 
+    /// The leapfrog's second half drifts `v·dt/2` and keeps the previous
+    /// position the gravity stage's first half set.
+    #[test]
+    fn the_second_half_drifts_half_a_step_and_keeps_the_previous_position() {
+        let v = [Velocity(Vec3::new(1.0, -2.0, 0.0))];
+        let mut p = [Position(Vec3::new(10.5, -1.0, 0.0))];
+        let mut prev = [PreviousPosition(Vec3::new(10.0, 0.0, 0.0))];
+        assert!(integrate_kernel((&v, &mut p, &mut prev), 1.0, Drift::SecondHalf));
+        assert_eq!(p[0].0, Vec3::new(11.0, -2.0, 0.0));
+        assert_eq!(prev[0].0, Vec3::new(10.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn only_the_leapfrog_with_gravity_drifts_in_halves() {
+        let drift = |integrator, gravity| {
+            Drift::of(&SimulationSettings {
+                integrator,
+                gravity,
+                ..SimulationSettings::DEFAULT
+            })
+        };
+        assert_eq!(drift(Integrator::Leapfrog, true), Drift::SecondHalf);
+        assert_eq!(drift(Integrator::Leapfrog, false), Drift::Whole);
+        assert_eq!(drift(Integrator::SemiImplicitEuler, true), Drift::Whole);
+    }
+
     #[test]
     fn an_overflow_is_reported() {
         let v = [Velocity(Vec3::new(3.0e38, 0.0, 0.0)), Velocity(Vec3::ZERO)];
         let mut p = [Position(Vec3::new(1.0e38, 0.0, 0.0)), Position(Vec3::ZERO)];
         let mut prev = [PreviousPosition::default(); 2];
-        assert!(!integrate_kernel((&v, &mut p, &mut prev), 2.0), "3e38 · 2 overflows");
+        assert!(
+            !integrate_kernel((&v, &mut p, &mut prev), 2.0, Drift::Whole),
+            "3e38 · 2 overflows"
+        );
         let v = [Velocity(Vec3::new(0.0, f32::NAN, 0.0))];
         let mut p = [Position(Vec3::ZERO)];
-        assert!(!integrate_kernel((&v, &mut p, &mut prev[..1]), 1.0), "NaN stays NaN");
+        assert!(
+            !integrate_kernel((&v, &mut p, &mut prev[..1]), 1.0, Drift::SecondHalf),
+            "NaN stays NaN"
+        );
     }
 }

@@ -28,10 +28,10 @@ pub use broad_phase::{
 pub use fault::{Fault, SimulationFault, first_non_finite, no_fault};
 pub use gravity::{
     GROUP_SIZE, GravityColumns, GravityInUse, GravityPlugin, GravitySource, Kernel, LEAF_SIZE, Octree, Pull,
-    PullScratch, REGION_SIZE, SourceColumns, acceleration_at, add_pulls, collect_sources, gravity_kernel, prepare_pull,
-    pull_factor,
+    PullScratch, REGION_SIZE, SourceColumns, acceleration_at, add_pulls, collect_sources, gravity_kernel, half_drift,
+    prepare_pull, pull_factor,
 };
-pub use integrate::{IntegrateColumns, IntegratePlugin, integrate_kernel};
+pub use integrate::{Drift, IntegrateColumns, IntegratePlugin, integrate_kernel};
 pub use plugins::SimulationPlugins;
 pub use response::{
     Absorbed, CollisionStats, ContactBody, Matched, Motion, Outcome, ResponsePlugin, apart_axes, collision_axes,

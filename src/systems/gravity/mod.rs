@@ -1,13 +1,16 @@
 //! The gravity stage: gravitational acceleration of every adopter, applied at once
-//! as the first half of the semi-implicit Euler step (docs/design.md,
-//! "Gravity").
+//! as the kick of the integrator's step (docs/design.md, "Gravity" and
+//! "Integration").
 //!
 //! `a_i = Σ_j G·m_j·(p_j − p_i) / (|p_j − p_i|² + ε²)^{3/2}` over all sources
 //! `j ≠ i` at non-zero distance, summed in f64 in ascending `BodyId` order.
 //! Each body's sum is independent of every other, so any split of the bodies
-//! gives the same bits. The stage ends with the kick `v_i += a_i·dt`: only
-//! velocities change, every sum reads positions from before the update, and
-//! the integration stage then drifts `p += v·dt`. The arithmetic is exactly
+//! gives the same bits. The stage ends with the kick `v_i += a_i·dt`. With
+//! semi-implicit Euler (the thesis) only velocities change, every sum reads
+//! positions from before the update, and the integration stage then drifts
+//! `p += v·dt`; with the leapfrog every body first drifts half a step, the
+//! sums read those midpoints, and the integration stage drifts the second
+//! half. The arithmetic is exactly
 //! "compute `a`, then `v += a·dt`"; not storing `a` between the stages saves
 //! 20 bytes per body (a component and its change ticks).
 //!
@@ -42,6 +45,6 @@ pub use kernel::Kernel;
 pub use source::{GravitySource, acceleration_at, add_pulls, pull_factor};
 pub use stage::{
     GravityColumns, GravityInUse, GravityPlugin, Pull, PullScratch, SourceColumns, collect_sources, gravity_kernel,
-    prepare_pull,
+    half_drift, prepare_pull,
 };
 pub use tree::{GROUP_SIZE, LEAF_SIZE, Octree, REGION_SIZE};

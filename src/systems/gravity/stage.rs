@@ -1,6 +1,7 @@
 //! The stage: [`GravityPlugin`] and its system, the pull it sums by
 //! ([`prepare_pull`], `Auto` decided; [`GravityInUse`] for the HUD), and
-//! the kick `v += a·dt` ([`gravity_kernel`]); see the module's
+//! the kick `v += a·dt` ([`gravity_kernel`]), at the update's start or,
+//! with the leapfrog, after the first half drift; see the module's
 //! documentation in `gravity/mod.rs`.
 
 use bevy::prelude::*;
@@ -8,13 +9,19 @@ use bevy::prelude::*;
 use super::source::{GravitySource, acceleration_at};
 use super::tree::Octree;
 use super::walk::{RegionShare, group_accelerations, region_shares};
-use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
+use crate::components::{BodyId, GravityRole, Mass, Position, PreviousPosition, Velocity};
 use crate::execution::{Execution, StageExecution};
-use crate::resources::{GravityMethod, SimulationSettings};
+use crate::resources::{GravityMethod, Integrator, SimulationSettings};
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
 
 /// The columns the gravity kernel reads and writes.
-pub type GravityColumns<'a> = (&'a [BodyId], &'a [Position], &'a [GravityRole], &'a mut [Velocity]);
+pub type GravityColumns<'a> = (
+    &'a [BodyId],
+    &'a [GravityRole],
+    &'a mut [Position],
+    &'a mut [PreviousPosition],
+    &'a mut [Velocity],
+);
 
 /// Accelerates adopters towards the sources in [`SimulationSystems::Gravity`].
 pub struct GravityPlugin;
@@ -197,18 +204,51 @@ fn tree_pull<'a>(
     }
 }
 
+/// Where a body is after half an update's drift, `p + v·(dt/2)` with
+/// `half` = `dt/2`: the leapfrog's midpoint. The kernel moves every body
+/// there and [`collect_sources`] places the sources there, with the same
+/// bits, so a body finds itself among the sources.
+#[inline]
+pub fn half_drift(position: Vec3, velocity: Vec3, half: f32) -> Vec3 {
+    position + velocity * half
+}
+
 /// Kernel: the kick `v += a·dt` of every adopter in the columns, `a` being
-/// the gravitational pull at its position; other bodies keep their velocity.
+/// the gravitational pull where `integrator` evaluates it; other bodies
+/// keep their velocity.
+///
+/// - `SemiImplicitEuler` (the thesis): `a` at the position, which stays;
+///   the integrate stage then drifts a whole step.
+/// - `Leapfrog`: every body first drifts half a step
+///   ([`half_drift`]), keeping its position as the previous one, and `a`
+///   is the pull at that midpoint (the sources placed there by
+///   [`collect_sources`]); the integrate stage drifts the second half.
 pub fn gravity_kernel(
-    (ids, positions, roles, velocities): GravityColumns<'_>,
+    (ids, roles, positions, previous, velocities): GravityColumns<'_>,
     pull: Pull<'_>,
     softening2: f64,
     dt: f32,
+    integrator: Integrator,
 ) {
     let mut next = 0;
-    for (((id, p), role), v) in ids.iter().zip(positions).zip(roles).zip(velocities) {
-        if role.is_adopter() {
-            v.0 += pull.at_after(*id, p.0, softening2, &mut next) * dt;
+    match integrator {
+        Integrator::SemiImplicitEuler => {
+            for (((id, role), p), v) in ids.iter().zip(roles).zip(positions.iter()).zip(velocities) {
+                if role.is_adopter() {
+                    v.0 += pull.at_after(*id, p.0, softening2, &mut next) * dt;
+                }
+            }
+        }
+        Integrator::Leapfrog => {
+            let half = dt * 0.5;
+            let bodies = ids.iter().zip(roles).zip(positions).zip(previous).zip(velocities);
+            for ((((id, role), p), prev), v) in bodies {
+                prev.0 = p.0;
+                p.0 = half_drift(p.0, v.0, half);
+                if role.is_adopter() {
+                    v.0 += pull.at_after(*id, p.0, softening2, &mut next) * dt;
+                }
+            }
         }
     }
 }
@@ -222,17 +262,28 @@ const TREE_PULLS_PER_BODY: usize = 1000;
 const SCAN_BLOCK: usize = 256;
 
 /// One table's columns that [`collect_sources`] reads.
-pub type SourceColumns<'a> = (&'a [BodyId], &'a [Position], &'a [Mass], &'a [GravityRole]);
+pub type SourceColumns<'a> = (
+    &'a [BodyId],
+    &'a [Position],
+    &'a [Velocity],
+    &'a [Mass],
+    &'a [GravityRole],
+);
 
 /// The sources among the bodies in `tables`, sorted by id so the sum order
-/// is fixed. Only the role column is read for every body (sources are few).
+/// is fixed, where `integrator` evaluates the pull: at their positions, or
+/// for the leapfrog half a drift on ([`half_drift`]). Only the role column
+/// is read for every body (sources are few).
 pub fn collect_sources<'a>(
     tables: impl Iterator<Item = SourceColumns<'a>>,
     gravitational_constant: f64,
+    integrator: Integrator,
+    dt: f32,
     out: &mut Vec<GravitySource>,
 ) {
     out.clear();
-    for (ids, positions, masses, roles) in tables {
+    let half = dt * 0.5;
+    for (ids, positions, velocities, masses, roles) in tables {
         // Blocks without a source are skipped by a branch-free test that
         // the compiler vectorizes: a million roles take microseconds.
         for (block, block_roles) in roles.chunks(SCAN_BLOCK).enumerate() {
@@ -242,9 +293,13 @@ pub fn collect_sources<'a>(
             for (k, role) in block_roles.iter().enumerate() {
                 if role.is_source() {
                     let row = block * SCAN_BLOCK + k;
+                    let position = match integrator {
+                        Integrator::SemiImplicitEuler => positions[row].0,
+                        Integrator::Leapfrog => half_drift(positions[row].0, velocities[row].0, half),
+                    };
                     out.push(GravitySource {
                         id: ids[row],
-                        position: positions[row].0.as_dvec3(),
+                        position: position.as_dvec3(),
                         gm: gravitational_constant * f64::from(masses[row].0),
                     });
                 }
@@ -267,15 +322,23 @@ fn apply_gravity(
     mut stage: Stage,
     mut in_use: ResMut<GravityInUse>,
     mut scratch: Local<GravityScratch>,
-    all: Query<(&BodyId, &Position, &Mass, &GravityRole)>,
-    mut bodies: Query<(&BodyId, &Position, &GravityRole, &mut Velocity)>,
+    mut bodies: Query<(
+        &BodyId,
+        &GravityRole,
+        &Mass,
+        &mut Position,
+        &mut PreviousPosition,
+        &mut Velocity,
+    )>,
 ) {
     let clock = stage.start(SimulationSystems::Gravity);
-    let all = all.contiguous_iter().expect("body components are table-stored");
+    let (integrator, dt) = (settings.integrator, settings.time_step);
+    let tables = bodies.contiguous_iter().expect("body components are table-stored");
     let GravityScratch { sources, pull } = &mut *scratch;
-    collect_sources(all, f64::from(settings.gravitational_constant), sources);
+    let all = tables.map(|(ids, roles, masses, positions, _, velocities)| (ids, positions, velocities, masses, roles));
+    collect_sources(all, f64::from(settings.gravitational_constant), integrator, dt, sources);
     let softening = f64::from(settings.softening);
-    let (softening2, dt) = (softening * softening, settings.time_step);
+    let softening2 = softening * softening;
     let (pull, stage) = prepare_pull(
         settings.gravity_method,
         sources,
@@ -290,9 +353,17 @@ fn apply_gravity(
         sources: sources.len(),
     });
     let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
-    for (ids, positions, roles, mut velocities) in tables {
-        let columns = (ids, positions, roles, velocities.bypass_change_detection());
-        stage.for_chunks(columns, |columns| gravity_kernel(columns, pull, softening2, dt));
+    for (ids, roles, _, mut positions, mut previous, mut velocities) in tables {
+        let columns = (
+            ids,
+            roles,
+            positions.bypass_change_detection(),
+            previous.bypass_change_detection(),
+            velocities.bypass_change_detection(),
+        );
+        stage.for_chunks(columns, |columns| {
+            gravity_kernel(columns, pull, softening2, dt, integrator);
+        });
     }
     clock.finish();
 }
@@ -305,24 +376,85 @@ mod tests {
     #[test]
     fn kernel_kicks_adopters_only() {
         let ids = [BodyId(1), BodyId(2), BodyId(3), BodyId(4)];
-        let positions = [Position(Vec3::new(1.0, 0.0, 0.0)); 4];
+        let start = [Position(Vec3::new(1.0, 0.0, 0.0)); 4];
         let roles = [
             GravityRole::Adopter,
             GravityRole::Source,
             GravityRole::Inert,
             GravityRole::SourceAndAdopter,
         ];
+        let mut positions = start;
+        let mut previous = [PreviousPosition::default(); 4];
         let mut velocities = [Velocity(Vec3::ONE); 4];
         // Unit pull towards the origin for half a step: v.x = 1 − 0.5.
         gravity_kernel(
-            (&ids, &positions, &roles, &mut velocities),
+            (&ids, &roles, &mut positions, &mut previous, &mut velocities),
             Pull::Direct(&[source(0, [0.0; 3], 1.0)]),
             0.0,
             0.5,
+            Integrator::SemiImplicitEuler,
         );
         let vx: Vec<f32> = velocities.iter().map(|v| v.0.x).collect();
         assert_eq!(vx, [0.5, 1.0, 1.0, 0.5]);
         assert!(velocities.iter().all(|v| v.0.yz() == Vec2::ONE));
+        assert_eq!(
+            positions, start,
+            "semi-implicit Euler leaves the drift to the integrate stage"
+        );
+    }
+
+    /// The leapfrog's first half: every body drifts `v·dt/2` from where it
+    /// was (kept as its previous position), and adopters are kicked by the
+    /// pull at that midpoint, not at the start.
+    #[test]
+    fn the_leapfrog_kicks_at_the_midpoint_of_the_drift() {
+        let ids = [BodyId(1), BodyId(2)];
+        let roles = [GravityRole::Adopter, GravityRole::Inert];
+        let mut positions = [Position(Vec3::new(2.0, 0.0, 0.0)); 2];
+        let mut previous = [PreviousPosition::default(); 2];
+        // Moving in +x at 4 for dt = 1: the midpoint is x = 4.
+        let mut velocities = [Velocity(Vec3::new(4.0, 0.0, 0.0)); 2];
+        gravity_kernel(
+            (&ids, &roles, &mut positions, &mut previous, &mut velocities),
+            Pull::Direct(&[source(0, [0.0; 3], 1.0)]),
+            0.0,
+            1.0,
+            Integrator::Leapfrog,
+        );
+        assert_eq!(previous.map(|p| p.0.x), [2.0, 2.0]);
+        assert_eq!(positions.map(|p| p.0.x), [4.0, 4.0]);
+        // G·m/r² = 1/16 at the midpoint (it would be 1/4 at the start).
+        assert_eq!(velocities.map(|v| v.0.x), [4.0 - 1.0 / 16.0, 4.0]);
+    }
+
+    /// With the leapfrog the sources stand half a drift on, exactly where
+    /// the kernel moves each body: a source that is an adopter finds
+    /// itself among them and does not pull itself.
+    #[test]
+    fn the_leapfrogs_sources_stand_where_the_kernel_moves_the_bodies() {
+        let ids = [BodyId(3), BodyId(5)];
+        let mut positions = [Position(Vec3::new(0.1, 0.2, 0.3)), Position(Vec3::new(10.0, 0.0, 0.0))];
+        let mut velocities = [Velocity(Vec3::new(0.7, -0.3, 0.9)), Velocity(Vec3::ZERO)];
+        let masses = [Mass(1.0); 2];
+        let roles = [GravityRole::SourceAndAdopter, GravityRole::Source];
+        let mut sources = Vec::new();
+        let table = (&ids[..], &positions[..], &velocities[..], &masses[..], &roles[..]);
+        collect_sources(std::iter::once(table), 1.0, Integrator::Leapfrog, 0.3, &mut sources);
+        let mut previous = [PreviousPosition::default(); 2];
+        let start = velocities[0].0;
+        gravity_kernel(
+            (&ids, &roles, &mut positions, &mut previous, &mut velocities),
+            Pull::Direct(&sources),
+            0.0,
+            0.3,
+            Integrator::Leapfrog,
+        );
+        assert_eq!(sources[0].position, positions[0].0.as_dvec3());
+        assert_eq!(sources[1].position, positions[1].0.as_dvec3());
+        // Only the second source pulls the first, at the midpoint.
+        let other = Pull::Direct(&sources[1..]).at(BodyId(3), positions[0].0, 0.0);
+        assert!(other.x > 0.0);
+        assert_eq!(velocities[0].0, start + other * 0.3);
     }
 
     /// The kick looks each body's source up after the previous body's: in
@@ -355,10 +487,18 @@ mod tests {
                 _ => bodies.sort_by_key(|b| (b.0.0 * 7919) % 1201),
             }
             let ids: Vec<BodyId> = bodies.iter().map(|b| b.0).collect();
-            let positions: Vec<Position> = bodies.iter().map(|b| Position(b.1)).collect();
+            let mut positions: Vec<Position> = bodies.iter().map(|b| Position(b.1)).collect();
             let roles: Vec<GravityRole> = bodies.iter().map(|b| b.2).collect();
+            let mut previous = vec![PreviousPosition::default(); bodies.len()];
             let mut velocities = vec![Velocity(Vec3::ZERO); bodies.len()];
-            gravity_kernel((&ids, &positions, &roles, &mut velocities), pull, 1.0, 1.0);
+            let columns = (
+                &ids[..],
+                &roles[..],
+                &mut positions[..],
+                &mut previous[..],
+                &mut velocities[..],
+            );
+            gravity_kernel(columns, pull, 1.0, 1.0, Integrator::SemiImplicitEuler);
             for ((id, p, _), v) in bodies.iter().zip(&velocities) {
                 assert_eq!(v.0, pull.at(*id, *p, 1.0), "order {order}, body {id:?}");
                 assert_ne!(v.0, Vec3::ZERO);

@@ -11,7 +11,7 @@ use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, WorkerPool};
-use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, FragmentSizes, GravityMethod};
+use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, FragmentSizes, GravityMethod, Integrator};
 use crate::rng::Rng;
 use crate::systems::SimulationFault;
 use crate::ui::session::SandboxState;
@@ -245,6 +245,17 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
             ui.add(slider(theta, 0.0..=1.5).text("θ"))
                 .on_hover_text("opening angle: 0 is the direct sum; 0.5 errs about 0.1 %");
         }
+    });
+    ui.horizontal(|ui| {
+        ui.label("integrator");
+        ui.radio_value(&mut settings.integrator, Integrator::Leapfrog, "leapfrog")
+            .on_hover_text("drift–kick–drift, second order: orbits stay round");
+        ui.radio_value(
+            &mut settings.integrator,
+            Integrator::SemiImplicitEuler,
+            "semi-implicit Euler",
+        )
+        .on_hover_text("the thesis: kick, then drift; first order, orbits swing by a few % of their radius");
     });
     ui.checkbox(&mut settings.collisions, "collision detection");
     ui.add_enabled(

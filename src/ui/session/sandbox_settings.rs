@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool, available_threads};
 use crate::resources::{
-    Applies, FragmentSizes, GravityMethod, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check,
+    Applies, FragmentSizes, GravityMethod, Integrator, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check,
 };
 
 /// Slowest and fastest target update rate, updates per second.
@@ -45,6 +45,7 @@ macro_rules! panel_physics {
     ($then:ident) => {
         $then! {
             gravity_method => |_| SimulationSettings::DEFAULT.gravity_method,
+            integrator => |_| SimulationSettings::DEFAULT.integrator,
             seed => |_| SimulationSettings::DEFAULT.seed,
             shatter_fragments => |n| clamped(n, &SHATTER_FRAGMENTS_RANGE).unwrap_or(SimulationSettings::DEFAULT.shatter_fragments),
             fragment_sizes => |_| SimulationSettings::DEFAULT.fragment_sizes,
@@ -146,6 +147,8 @@ pub struct SandboxSettings {
     /// Direct sum, Barnes–Hut tree, or `Auto` by the number of sources
     /// (live).
     pub gravity_method: GravityMethod,
+    /// Leapfrog or the thesis's semi-implicit Euler (live).
+    pub integrator: Integrator,
     /// Target simulation updates per second, 1–600 (live).
     pub updates_per_second: u32,
     /// Factor on the update rate (live).
@@ -196,6 +199,7 @@ impl Default for SandboxSettings {
             collision_response: true,
             gravity: true,
             gravity_method: physics.gravity_method,
+            integrator: physics.integrator,
             updates_per_second: 60,
             speed: 1.0,
             body_count: None,
@@ -384,6 +388,7 @@ impl SandboxSettings {
             collision_response,
             gravity,
             gravity_method,
+            integrator,
             updates_per_second,
             speed,
             body_count,
