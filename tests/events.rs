@@ -321,7 +321,9 @@ fn a_recorded_session_replays_exactly() {
 }
 
 /// `scenarios/asat.ron`: the interceptor shatters satellite 1 within its
-/// distance over its speed (5 updates) and 5 more, and its debris is there.
+/// distance over its speed (5 updates) and 5 more, and its debris is there
+/// (with swept detection, meeting other satellites already: shatters
+/// beyond the first).
 #[test]
 fn the_asat_scene_s_interceptor_hits_its_satellite() {
     // A copy: the dumps are written beside it.
@@ -332,7 +334,7 @@ fn the_asat_scene_s_interceptor_hits_its_satellite() {
     assert_eq!(count(&summary, "shatters"), 0, "{summary}");
     assert!(rows.iter().any(|r| r.id == 1));
     let (summary, _, rows) = headless(&copy, 110, &[]);
-    assert_eq!(count(&summary, "shatters"), 1, "{summary}");
+    assert!(count(&summary, "shatters") >= 1, "{summary}");
     assert!(!rows.iter().any(|r| r.id == 1), "{summary}");
     assert!(rows.len() > 3001 + 10, "{summary}");
 }

@@ -1,6 +1,7 @@
 //! ECS resources shared by the stages.
 
 mod body_ids;
+mod collision_detection;
 mod fragment_sizes;
 mod gravity_method;
 mod integrator;
@@ -9,6 +10,7 @@ mod setting_value;
 mod settings;
 
 pub use body_ids::{MAX_ID, NextBodyId};
+pub use collision_detection::CollisionDetection;
 pub use fragment_sizes::{FragmentSizes, MAX_EXPONENT};
 pub use gravity_method::{AUTO_TREE_FROM, BadGravityMethod, DEFAULT_THETA, GravityMethod, MAX_THETA};
 pub use integrator::Integrator;

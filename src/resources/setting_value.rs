@@ -7,7 +7,7 @@ use std::fmt::Debug;
 use serde::de::{Deserializer, Error};
 use serde::{Deserialize, Serialize};
 
-use super::{FragmentSizes, GravityMethod, Integrator};
+use super::{CollisionDetection, FragmentSizes, GravityMethod, Integrator};
 use crate::input::{f32_where, shown_number, whole};
 
 /// A physics setting's type.
@@ -123,27 +123,31 @@ impl SettingValue for GravityMethod {
     }
 }
 
-impl SettingValue for Integrator {
-    fn shown(&self) -> String {
-        self.name().to_owned()
-    }
+/// A setting whose values are names alone (`Leapfrog`, `Swept`), each
+/// type with its `name()`.
+macro_rules! named_setting {
+    ($($ty:ty: $hint:literal),*) => {$(
+        impl SettingValue for $ty {
+            fn shown(&self) -> String {
+                self.name().to_owned()
+            }
 
-    fn read_checked<'de, D: Deserializer<'de>>(
-        d: D,
-        field: &str,
-        rule: &str,
-        ok: impl Fn(Self) -> bool,
-    ) -> Result<Self, D::Error> {
-        read_wide(
-            d,
-            field,
-            rule,
-            "write `Leapfrog` or `SemiImplicitEuler`",
-            ok,
-            |value: Self| (value, value.name().to_owned()),
-        )
-    }
+            fn read_checked<'de, D: Deserializer<'de>>(
+                d: D,
+                field: &str,
+                rule: &str,
+                ok: impl Fn(Self) -> bool,
+            ) -> Result<Self, D::Error> {
+                read_wide(d, field, rule, $hint, ok, |value: Self| (value, value.name().to_owned()))
+            }
+        }
+    )*};
 }
+
+named_setting!(
+    Integrator: "write `Leapfrog` or `SemiImplicitEuler`",
+    CollisionDetection: "write `Swept` or `Discrete`"
+);
 
 impl SettingValue for FragmentSizes {
     fn sound(&self) -> bool {

@@ -13,7 +13,7 @@ use serde::de::{Error, MapAccess};
 use serde::ser::SerializeStruct;
 
 use super::setting_value::{SettingValue, problem};
-use super::{FragmentSizes, GravityMethod, Integrator};
+use super::{CollisionDetection, FragmentSizes, GravityMethod, Integrator};
 
 /// Most bodies one run may hold: about 200 bytes each in memory, so this
 /// bounds a run to a few GiB.
@@ -81,6 +81,9 @@ macro_rules! physics_settings {
             /// How gravity is summed: `Auto` (direct below 512 sources, else the tree), `Direct`, or `Tree(theta: θ)` (Barnes–Hut).
             gravity_method as "gravity": GravityMethod = GravityMethod::Auto,
                 "Auto, Direct, or Tree(theta: θ) with θ finite from 0 to 2", |v: GravityMethod| v.check().is_ok(), Live;
+            /// How collisions are found: `Swept` (along each body's path over the update, at the time the pair first touches) or `Discrete` (the thesis: where the update ends).
+            collision_detection: CollisionDetection = CollisionDetection::Swept,
+                "Swept or Discrete", |_| true, Live;
             /// Impact speed (the size of `v1 − v2`) from which two interacting bodies shatter.
             shatter_threshold: f32 = 3.0,
                 "finite and >= 0", |v| v >= 0.0, Live;

@@ -215,6 +215,7 @@ mod tests {
             gravitational_constant: 0.25,
             time_step: 0.125,
             integrator: crate::resources::Integrator::SemiImplicitEuler,
+            collision_detection: crate::resources::CollisionDetection::Discrete,
             softening: 3.5,
             gravity_method: GravityMethod::Tree { theta: 0.75 },
             shatter_threshold: 0.0,

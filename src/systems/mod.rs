@@ -23,7 +23,7 @@ mod totals;
 
 pub use broad_phase::{
     Aabb, BodyColumns, BoxSource, BroadPhaseQuery, MIN_PAIR_LIMIT, PAIRS_PER_BOX, SortedBoxes, TableColumns,
-    TooManyPairs, id_pairs, pair_limit, sort_boxes, sweep_and_prune, sweep_sorted,
+    TooManyPairs, id_pairs, pair_limit, sort_boxes, sweep_and_prune, sweep_sorted, swept_box,
 };
 pub use fault::{Fault, SimulationFault, first_non_finite, no_fault};
 pub use gravity::{
@@ -34,13 +34,13 @@ pub use gravity::{
 pub use integrate::{Drift, IntegrateColumns, IntegratePlugin, integrate_kernel};
 pub use plugins::SimulationPlugins;
 pub use response::{
-    Absorbed, CollisionStats, ContactBody, Matched, Motion, Outcome, ResponsePlugin, apart_axes, collision_axes,
-    elastic, refuse_shatters, respond, respond_to_ball,
+    Absorbed, CollisionStats, ContactBody, Matched, Meeting, Motion, Outcome, ResponsePlugin, apart_axes,
+    collision_axes, contact_states, elastic, first_contact, refuse_shatters, respond, respond_swept, respond_to_ball,
 };
 pub use schedule::{BetweenUpdates, NextEventAt, SchedulePlugin, SimulationUpdate, run_due_events, run_updates};
 pub use shatter::{
     PendingShatters, Reentering, ShatterPair, ShatterPlugin, box_volume, breakup_fragments, fragment_half_extent,
-    fragments, fragments_for, power_law_fragments, power_law_halves, smallest_fragment_edge,
+    fragments, fragments_for, move_on, power_law_fragments, power_law_halves, smallest_fragment_edge,
 };
 pub use sort::SortPlugin;
 pub use stage_clock::{Stage, StageClock};

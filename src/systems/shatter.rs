@@ -25,8 +25,12 @@ use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate
 pub struct ShatterPair {
     /// The two bodies' entities, to despawn.
     pub entities: [Entity; 2],
-    /// Their state at the impact.
+    /// Their state at the impact (with swept detection, where they met).
     pub bodies: [BodyState; 2],
+    /// The time left in the update after the impact, for which the
+    /// fragments move on from where they are made (swept detection; 0 for
+    /// discrete, which finds pairs where the update ends).
+    pub rest: f32,
 }
 
 /// Pairs the response marked for shattering this update, in pair order.
@@ -409,7 +413,10 @@ fn shatter(
             commands.entity(entity).despawn();
         }
         let [a, b] = &pair.bodies;
-        let made = fragments_for(a, b, &settings, BodyId(next_id.0));
+        let mut made = fragments_for(a, b, &settings, BodyId(next_id.0));
+        if pair.rest > 0.0 {
+            move_on(&mut made, pair.rest);
+        }
         next_id.0 += made.len() as u64;
         commands.spawn_batch(made.into_iter().map(|f| {
             debug_assert!(
@@ -420,6 +427,16 @@ fn shatter(
         }));
     }
     clock.finish();
+}
+
+/// Fragments made where their pair met, moved on along their velocities
+/// for the `rest` of the update (each keeps where it was made as its
+/// previous position).
+pub fn move_on(fragments: &mut [BodyState], rest: f32) {
+    for fragment in fragments {
+        fragment.previous = fragment.position;
+        fragment.position += fragment.velocity * rest;
+    }
 }
 
 #[cfg(test)]

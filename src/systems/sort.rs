@@ -4,7 +4,7 @@
 use bevy::prelude::*;
 
 use super::broad_phase::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sort_boxes};
-use crate::resources::SimulationSettings;
+use crate::resources::{CollisionDetection, SimulationSettings};
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
 
 /// Files the bodies' boxes by grid cell and orders them on x in
@@ -24,7 +24,11 @@ fn sort(settings: Res<SimulationSettings>, mut stage: Stage, mut sorted: ResMut<
         return;
     }
     let clock = stage.start(SimulationSystems::Sort);
-    let columns = BodyColumns::new(bodies.contiguous_iter().expect("body components are table-stored"));
+    let swept = settings.collision_detection == CollisionDetection::Swept;
+    let columns = BodyColumns::new(
+        bodies.contiguous_iter().expect("body components are table-stored"),
+        swept,
+    );
     sort_boxes(&columns, clock.execution(columns.len()), &mut sorted);
     clock.finish();
 }

@@ -1,12 +1,13 @@
 //! Where the broad phase reads its boxes: a plain slice, or the bodies'
-//! table columns in place (so a million bodies need no copy of their boxes).
+//! table columns in place (so a million bodies need no copy of their boxes),
+//! each body's box where the update ends or swept along its path.
 
 use std::ops::Range;
 
 use bevy::prelude::*;
 
 use super::Aabb;
-use crate::components::{BodyId, HalfExtents, Position};
+use crate::components::{BodyId, HalfExtents, Position, PreviousPosition};
 
 /// A sequence of boxes the broad phase can read in order.
 pub trait BoxSource: Sync {
@@ -45,10 +46,37 @@ impl BoxSource for [Aabb] {
 }
 
 /// One table's columns the broad phase reads.
-pub type TableColumns<'a> = (&'a [Entity], &'a [BodyId], &'a [Position], &'a [HalfExtents]);
+pub type TableColumns<'a> = (
+    &'a [Entity],
+    &'a [BodyId],
+    &'a [Position],
+    &'a [PreviousPosition],
+    &'a [HalfExtents],
+);
 
-/// The columns the broad phase reads: entity, id, position, half extents.
-pub type BroadPhaseQuery<'w, 's> = Query<'w, 's, (Entity, &'static BodyId, &'static Position, &'static HalfExtents)>;
+/// The columns the broad phase reads: entity, id, position, previous
+/// position, half extents.
+pub type BroadPhaseQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        &'static BodyId,
+        &'static Position,
+        &'static PreviousPosition,
+        &'static HalfExtents,
+    ),
+>;
+
+/// The box a body swept over the update: the smallest box holding its box
+/// at `previous` and at `position` (a body at rest: its box).
+#[inline]
+pub fn swept_box(previous: Vec3, position: Vec3, half_extents: Vec3) -> Aabb {
+    Aabb {
+        min: previous.min(position) - half_extents,
+        max: previous.max(position) + half_extents,
+    }
+}
 
 /// The bodies' table columns read as one sequence, table after table.
 pub struct BodyColumns<'a> {
@@ -56,11 +84,15 @@ pub struct BodyColumns<'a> {
     starts: Vec<usize>,
     tables: Vec<TableColumns<'a>>,
     len: usize,
+    /// Each body's box swept over the update ([`swept_box`]), or where the
+    /// update ends.
+    swept: bool,
 }
 
 impl<'a> BodyColumns<'a> {
-    /// The tables in the order given.
-    pub fn new(tables: impl Iterator<Item = TableColumns<'a>>) -> Self {
+    /// The tables in the order given, each body's box where the update
+    /// ends, or swept along its path over the update (`swept`).
+    pub fn new(tables: impl Iterator<Item = TableColumns<'a>>, swept: bool) -> Self {
         let (mut starts, mut all, mut len) = (Vec::new(), Vec::new(), 0);
         for table in tables {
             starts.push(len);
@@ -71,6 +103,7 @@ impl<'a> BodyColumns<'a> {
             starts,
             tables: all,
             len,
+            swept,
         }
     }
 
@@ -101,15 +134,23 @@ impl BoxSource for BodyColumns<'_> {
     /// Walks the columns table by table, without locating every index.
     #[inline]
     fn for_each_in(&self, range: Range<usize>, mut f: impl FnMut(usize, Aabb)) {
-        for (&start, &(_, _, positions, halves)) in self.starts.iter().zip(&self.tables) {
+        for (&start, &(_, _, positions, previous, halves)) in self.starts.iter().zip(&self.tables) {
             let end = start + positions.len();
             let (from, to) = (range.start.max(start), range.end.min(end));
             if from >= to {
                 continue;
             }
             let rows = from - start..to - start;
-            for (k, (p, h)) in positions[rows.clone()].iter().zip(&halves[rows]).enumerate() {
-                f(from + k, Aabb::new(p.0, h.0));
+            let (positions, halves) = (&positions[rows.clone()], &halves[rows.clone()]);
+            if self.swept {
+                let bodies = positions.iter().zip(&previous[rows]).zip(halves);
+                for (k, ((p, q), h)) in bodies.enumerate() {
+                    f(from + k, swept_box(q.0, p.0, h.0));
+                }
+            } else {
+                for (k, (p, h)) in positions.iter().zip(halves).enumerate() {
+                    f(from + k, Aabb::new(p.0, h.0));
+                }
             }
         }
     }
@@ -117,8 +158,12 @@ impl BoxSource for BodyColumns<'_> {
     #[inline]
     fn get(&self, index: usize) -> Aabb {
         let (table, row) = self.locate(index);
-        let (_, _, positions, halves) = self.tables[table];
-        Aabb::new(positions[row].0, halves[row].0)
+        let (_, _, positions, previous, halves) = self.tables[table];
+        if self.swept {
+            swept_box(previous[row].0, positions[row].0, halves[row].0)
+        } else {
+            Aabb::new(positions[row].0, halves[row].0)
+        }
     }
 }
 
@@ -131,19 +176,35 @@ mod tests {
         let entities: Vec<Entity> = (1..=5).map(Entity::from_raw_u32).map(Option::unwrap).collect();
         let ids: Vec<BodyId> = (0..5).map(BodyId).collect();
         let positions: Vec<Position> = (0..5).map(|i| Position(Vec3::splat(i as f32))).collect();
+        // Each body came from 3 below on x.
+        let previous: Vec<PreviousPosition> = positions
+            .iter()
+            .map(|p| PreviousPosition(p.0 - Vec3::X * 3.0))
+            .collect();
         let halves = [HalfExtents(Vec3::ONE); 5];
-        let columns = BodyColumns::new(
+        let tables = || {
             [
-                (&entities[..2], &ids[..2], &positions[..2], &halves[..2]),
-                (&entities[2..], &ids[2..], &positions[2..], &halves[2..]),
+                (&entities[..2], &ids[..2], &positions[..2], &previous[..2], &halves[..2]),
+                (&entities[2..], &ids[2..], &positions[2..], &previous[2..], &halves[2..]),
             ]
-            .into_iter(),
-        );
+            .into_iter()
+        };
+        let columns = BodyColumns::new(tables(), false);
         assert_eq!(columns.len(), 5);
         let mut seen = Vec::new();
         columns.for_each_in(1..4, |i, b| seen.push((i, b.min.x)));
         assert_eq!(seen, [(1, 0.0), (2, 1.0), (3, 2.0)]);
         assert_eq!(columns.get(3).min.x, 2.0);
         assert_eq!(columns.body(3), (BodyId(3), entities[3]));
+        // Swept: from the previous box's lower corner to the box's upper one.
+        let swept = BodyColumns::new(tables(), true);
+        let mut seen = Vec::new();
+        swept.for_each_in(1..4, |i, b| seen.push((i, b.min.x, b.max.x, b.min.y)));
+        assert_eq!(seen, [(1, -3.0, 2.0, 0.0), (2, -2.0, 3.0, 1.0), (3, -1.0, 4.0, 2.0)]);
+        let expected = Aabb {
+            min: Vec3::new(-1.0, 2.0, 2.0),
+            max: Vec3::new(4.0, 4.0, 4.0),
+        };
+        assert_eq!(swept.get(3), expected);
     }
 }

@@ -40,7 +40,7 @@ mod sorted_boxes;
 mod sweep_pairs;
 
 pub use aabb::Aabb;
-pub use boxes::{BodyColumns, BoxSource, BroadPhaseQuery, TableColumns};
+pub use boxes::{BodyColumns, BoxSource, BroadPhaseQuery, TableColumns, swept_box};
 pub use sorted_boxes::{SortedBoxes, sort_boxes};
 pub use sweep_pairs::{
     MIN_PAIR_LIMIT, PAIRS_PER_BOX, TooManyPairs, id_pairs, pair_limit, sweep_and_prune, sweep_sorted,

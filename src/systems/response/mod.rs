@@ -4,6 +4,8 @@
 
 mod contact;
 mod stage;
+mod swept;
 
 pub use contact::{ContactBody, Motion, Outcome, apart_axes, collision_axes, elastic, respond, respond_to_ball};
 pub use stage::{Absorbed, CollisionStats, Matched, ResponsePlugin, refuse_shatters};
+pub use swept::{Meeting, contact_states, first_contact, respond_swept};

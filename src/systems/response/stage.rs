@@ -1,9 +1,10 @@
 //! The response stage: bounce, push-back, separate, or mark for
 //! shattering (docs/design.md, "Response").
 //!
-//! Pairs are taken in sorted order and each interacting body takes part in
-//! at most one response per update (a greedy matching); the rest wait for
-//! the next update while they still overlap. Non-interacting bodies are never
+//! Pairs are taken in sorted order (with swept detection, in the order of
+//! their first touch) and each interacting body takes part in at most one
+//! response per update (a greedy matching); the rest wait for the next
+//! update while they still overlap. Non-interacting bodies are never
 //! changed by a response, so they may meet any number of bodies at once.
 //! The matched pairs are disjoint, so their responses are computed in
 //! parallel with the same result.
@@ -12,12 +13,14 @@ use bevy::math::DVec3;
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
-use super::contact::{Outcome, respond, touches};
+use super::contact::{ContactBody, Outcome, respond, touches};
+use super::swept::{Meeting, contact_states, first_contact, respond_swept};
 use crate::components::{
     Absorbs, BodyId, BodyState, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition, Spherical,
     Velocity,
 };
-use crate::resources::{NextBodyId, SimulationSettings};
+use crate::execution::StageExecution;
+use crate::resources::{CollisionDetection, NextBodyId, SimulationSettings};
 use crate::systems::shatter::{PendingShatters, Reentering, ShatterPair, box_volume, smallest_fragment_edge};
 use crate::systems::sweep::{OverlappingPairs, Pair};
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
@@ -62,21 +65,22 @@ pub struct Absorbed {
 /// fragments below `min_fragment_size`, more bodies than `max_bodies`
 /// (counting from `bodies`), or an id past [`MAX_ID`](crate::resources::MAX_ID) (counting from
 /// `next_id`) — in pair order, as the shatter stage hands ids out — into
-/// what the pair does when it may not shatter (a bounce). Returns the
-/// number refused.
+/// what the pair does when it may not shatter (a bounce: `unshattered`
+/// gives it for the pair of that index). Returns the number refused.
 pub fn refuse_shatters(
     matched: &[Matched],
     outcomes: &mut [Outcome],
     settings: &SimulationSettings,
     bodies: usize,
     next_id: NextBodyId,
+    unshattered: impl Fn(usize) -> Outcome,
 ) -> usize {
     let count = settings.shatter_fragments.max(2);
     let added = u64::from(count) - 2;
     let mut bodies = bodies as u64;
     let mut next_id = next_id;
     let mut refused = 0;
-    for ((_, [a, b]), outcome) in matched.iter().zip(outcomes.iter_mut()) {
+    for (index, ((_, [a, b]), outcome)) in matched.iter().zip(outcomes.iter_mut()).enumerate() {
         if *outcome != Outcome::Shatter {
             continue;
         }
@@ -86,7 +90,7 @@ pub fn refuse_shatters(
             || bodies + added > settings.max_bodies
             || !next_id.has_room_for(u64::from(count))
         {
-            *outcome = respond(&a.into(), &b.into(), f32::INFINITY, settings.time_step);
+            *outcome = unshattered(index);
             refused += 1;
         } else {
             bodies += added;
@@ -182,24 +186,110 @@ fn match_pairs(pairs: &[Pair], bodies: &ContactQuery, busy: &mut HashSet<Entity>
     matched
 }
 
+/// What the swept matching hands on: the re-entries, the matched pairs
+/// and when each met.
+type SweptMatching = (Vec<(Entity, BodyState)>, Vec<Matched>, Vec<Meeting>);
+
+/// Swept detection's matching: every pair's first touch ([`first_contact`],
+/// split as `stage` says), then the pairs that touch in the order of that
+/// touch (ties in pair order), each interacting body in at most one
+/// response: absorbed by an absorber it meets (a re-entry), or matched
+/// with the other body. Bodies in `busy` take part in none.
+fn swept_matching(
+    pairs: &[Pair],
+    bodies: &ContactQuery,
+    busy: &mut HashSet<Entity>,
+    stage: StageExecution<'_>,
+) -> SweptMatching {
+    let candidates: Vec<Matched> = pairs
+        .iter()
+        .filter_map(|pair| {
+            let entities = [pair.entity_a, pair.entity_b];
+            Some((
+                entities,
+                [body_state(bodies, entities[0])?, body_state(bodies, entities[1])?],
+            ))
+        })
+        .collect();
+    let meetings: Vec<Option<Meeting>> = stage
+        .map_chunks(candidates.as_slice(), |chunk: &[Matched]| {
+            chunk
+                .iter()
+                .map(|(_, [a, b])| first_contact(&a.into(), &b.into()))
+                .collect::<Vec<_>>()
+        })
+        .concat();
+    let mut order: Vec<(f64, usize, Meeting)> = meetings
+        .iter()
+        .enumerate()
+        .filter_map(|(index, meeting)| meeting.map(|m| (m.time(), index, m)))
+        .collect();
+    order.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let (mut absorbed, mut matched, mut met) = (Vec::new(), Vec::new(), Vec::new());
+    for (_, index, meeting) in order {
+        let (entities, [a, b]) = candidates[index];
+        if a.absorbs || b.absorbs {
+            for (k, absorber) in [(1, a), (0, b)] {
+                let other = if k == 0 { a } else { b };
+                if absorber.absorbs && other.interacts && busy.insert(entities[k]) {
+                    absorbed.push((entities[k], other));
+                }
+            }
+            continue;
+        }
+        let states = [a, b];
+        if (0..2).any(|k| states[k].interacts && busy.contains(&entities[k])) {
+            continue;
+        }
+        for (entity, state) in entities.iter().zip(&states) {
+            if state.interacts {
+                busy.insert(*entity);
+            }
+        }
+        matched.push((entities, states));
+        met.push(meeting);
+    }
+    (absorbed, matched, met)
+}
+
+/// Where a shattering pair's fragments are made: with swept detection (a
+/// meeting for each pair), the bodies where they met and the time left for
+/// the fragments to move on; else where they are, with none left.
+fn shatter_pair(index: usize, (entities, states): &Matched, meetings: &[Meeting], dt: f32) -> ShatterPair {
+    let Some(&meeting) = meetings.get(index) else {
+        return ShatterPair {
+            entities: *entities,
+            bodies: *states,
+            rest: 0.0,
+        };
+    };
+    let ([pa, pb], rest) = contact_states(&(&states[0]).into(), &(&states[1]).into(), meeting, dt);
+    let mut bodies = *states;
+    (bodies[0].position, bodies[1].position) = (pa, pb);
+    ShatterPair {
+        entities: *entities,
+        bodies,
+        rest,
+    }
+}
+
 /// Writes the outcomes back: new motions into the bodies (without marking
 /// them changed: see the components' change-detection rule), shatters into
-/// `pending`. Returns the number of bounces and separations.
+/// `pending` (where [`shatter_pair`] places them). Returns the number of
+/// bounces and separations.
 fn apply_outcomes(
     matched: &[Matched],
-    outcomes: Vec<Outcome>,
+    (outcomes, meetings, dt): (Vec<Outcome>, &[Meeting], f32),
     bodies: &mut ContactQuery,
     pending: &mut PendingShatters,
 ) -> usize {
     let mut responses = 0;
-    for ((entities, states), outcome) in matched.iter().zip(outcomes) {
+    for (index, (pair, outcome)) in matched.iter().zip(outcomes).enumerate() {
+        let entities = &pair.0;
         let motions = match outcome {
             Outcome::Ignore => continue,
             Outcome::Shatter => {
-                pending.0.push(ShatterPair {
-                    entities: *entities,
-                    bodies: *states,
-                });
+                pending.0.push(shatter_pair(index, pair, meetings, dt));
                 continue;
             }
             Outcome::Bounce(ma, mb) | Outcome::Separate(ma, mb) => [ma, mb],
@@ -244,12 +334,20 @@ fn respond_to_pairs(
         };
         return;
     }
-    // Without an absorber (the thesis scene), no pass over the pairs for one.
     busy.clear();
-    let reentries = if absorbers.is_empty() {
-        Vec::new()
+    let dt = settings.time_step;
+    let body_count = bodies.iter().len();
+    let (reentries, matched, meetings) = if settings.collision_detection == CollisionDetection::Swept {
+        swept_matching(&pairs.0, &bodies, &mut busy, clock.execution(body_count))
     } else {
-        find_reentries(&pairs.0, &bodies, &mut busy)
+        // Without an absorber (the thesis scene), no pass over the pairs for one.
+        let reentries = if absorbers.is_empty() {
+            Vec::new()
+        } else {
+            find_reentries(&pairs.0, &bodies, &mut busy)
+        };
+        let matched = match_pairs(&pairs.0, &bodies, &mut busy);
+        (reentries, matched, Vec::new())
     };
     for (entity, body) in &reentries {
         let mass = f64::from(body.mass);
@@ -257,26 +355,32 @@ fn respond_to_pairs(
         absorbed.momentum += body.velocity.as_dvec3() * mass;
         reentering.0.push(*entity);
     }
-    let matched = match_pairs(&pairs.0, &bodies, &mut busy);
     // Fewer than two fragments cannot keep volume: then nothing shatters.
     let threshold = if settings.shatter_fragments >= 2 {
         settings.shatter_threshold
     } else {
         f32::INFINITY
     };
-    let dt = settings.time_step;
-    let body_count = bodies.iter().len() - reentries.len();
+    let body_count = body_count - reentries.len();
+    // One pair's outcome: by its meeting with swept detection, else by today's rule.
+    let outcome = |index: usize, threshold: f32| {
+        let (_, [a, b]) = &matched[index];
+        let (a, b): (ContactBody, ContactBody) = (a.into(), b.into());
+        match meetings.get(index) {
+            Some(&meeting) => respond_swept(&a, &b, meeting, threshold, dt),
+            None => respond(&a, &b, threshold, dt),
+        }
+    };
     let mut outcomes: Vec<Outcome> = clock
         .execution(body_count)
-        .map_chunks(matched.as_slice(), |chunk: &[Matched]| {
-            chunk
-                .iter()
-                .map(|(_, [a, b])| respond(&a.into(), &b.into(), threshold, dt))
-                .collect::<Vec<_>>()
+        .map_chunks(0..matched.len(), |range| {
+            range.map(|index| outcome(index, threshold)).collect::<Vec<_>>()
         })
         .concat();
-    let refused = refuse_shatters(&matched, &mut outcomes, &settings, body_count, *next_id);
-    let responses = apply_outcomes(&matched, outcomes, &mut bodies, &mut pending);
+    let refused = refuse_shatters(&matched, &mut outcomes, &settings, body_count, *next_id, |index| {
+        outcome(index, f32::INFINITY)
+    });
+    let responses = apply_outcomes(&matched, (outcomes, &meetings, dt), &mut bodies, &mut pending);
     *stats = CollisionStats {
         pairs: pairs.0.len(),
         responses,

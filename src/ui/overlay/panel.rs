@@ -11,7 +11,7 @@ use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, WorkerPool};
-use crate::resources::{AUTO_TREE_FROM, DEFAULT_THETA, FragmentSizes, GravityMethod, Integrator};
+use crate::resources::{AUTO_TREE_FROM, CollisionDetection, DEFAULT_THETA, FragmentSizes, GravityMethod, Integrator};
 use crate::rng::Rng;
 use crate::systems::SimulationFault;
 use crate::ui::session::SandboxState;
@@ -258,6 +258,18 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         .on_hover_text("the thesis: kick, then drift; first order, orbits swing by a few % of their radius");
     });
     ui.checkbox(&mut settings.collisions, "collision detection");
+    ui.add_enabled_ui(settings.collisions, |ui| {
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut settings.collision_detection, CollisionDetection::Swept, "swept")
+                .on_hover_text("along each body's path over the update: fast bodies cannot pass through one another");
+            ui.radio_value(
+                &mut settings.collision_detection,
+                CollisionDetection::Discrete,
+                "discrete",
+            )
+            .on_hover_text("the thesis: only where the update ends; bodies faster than their size may tunnel");
+        });
+    });
     ui.add_enabled(
         settings.collisions,
         egui::Checkbox::new(&mut settings.collision_response, "collision response (bounce, shatter)"),

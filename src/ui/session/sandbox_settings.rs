@@ -9,7 +9,8 @@ use serde::{Deserialize, Serialize};
 use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool, available_threads};
 use crate::resources::{
-    Applies, FragmentSizes, GravityMethod, Integrator, MAX_BODIES, MAX_FRAGMENTS, SETTINGS, SimulationSettings, check,
+    Applies, CollisionDetection, FragmentSizes, GravityMethod, Integrator, MAX_BODIES, MAX_FRAGMENTS, SETTINGS,
+    SimulationSettings, check,
 };
 
 /// Slowest and fastest target update rate, updates per second.
@@ -46,6 +47,7 @@ macro_rules! panel_physics {
         $then! {
             gravity_method => |_| SimulationSettings::DEFAULT.gravity_method,
             integrator => |_| SimulationSettings::DEFAULT.integrator,
+            collision_detection => |_| SimulationSettings::DEFAULT.collision_detection,
             seed => |_| SimulationSettings::DEFAULT.seed,
             shatter_fragments => |n| clamped(n, &SHATTER_FRAGMENTS_RANGE).unwrap_or(SimulationSettings::DEFAULT.shatter_fragments),
             fragment_sizes => |_| SimulationSettings::DEFAULT.fragment_sizes,
@@ -149,6 +151,8 @@ pub struct SandboxSettings {
     pub gravity_method: GravityMethod,
     /// Leapfrog or the thesis's semi-implicit Euler (live).
     pub integrator: Integrator,
+    /// Swept or the thesis's discrete collision detection (live).
+    pub collision_detection: CollisionDetection,
     /// Target simulation updates per second, 1–600 (live).
     pub updates_per_second: u32,
     /// Factor on the update rate (live).
@@ -200,6 +204,7 @@ impl Default for SandboxSettings {
             gravity: true,
             gravity_method: physics.gravity_method,
             integrator: physics.integrator,
+            collision_detection: physics.collision_detection,
             updates_per_second: 60,
             speed: 1.0,
             body_count: None,
@@ -389,6 +394,7 @@ impl SandboxSettings {
             gravity,
             gravity_method,
             integrator,
+            collision_detection,
             updates_per_second,
             speed,
             body_count,
