@@ -113,6 +113,15 @@ fn ball_meets(cube: &ContactBody, ball: &ContactBody) -> Option<Meeting> {
     if distance(0.0) < radius {
         return Some(Meeting::Already);
     }
+    // Seen from the ball's center, the box sweeps the box around its two
+    // ends: where that stays a radius away, so does the box (most pairs
+    // with a planet are its bounding box's corners).
+    let half = cube.half_extents.as_dvec3();
+    let (from, to) = (at(cube, 0.0) - at(ball, 0.0), at(cube, 1.0) - at(ball, 1.0));
+    let (low, high) = (from.min(to) - half, from.max(to) + half);
+    if (DVec3::ZERO.clamp(low, high)).length() >= radius {
+        return None;
+    }
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
     for _ in 0..SEARCH_STEPS {
         let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
