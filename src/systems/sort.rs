@@ -24,11 +24,13 @@ fn sort(settings: Res<SimulationSettings>, mut stage: Stage, mut sorted: ResMut<
         return;
     }
     let clock = stage.start(SimulationSystems::Sort);
-    let swept = settings.collision_detection == CollisionDetection::Swept;
-    let columns = BodyColumns::new(
-        bodies.contiguous_iter().expect("body components are table-stored"),
-        swept,
-    );
-    sort_boxes(&columns, clock.execution(columns.len()), &mut sorted);
+    let tables = bodies.contiguous_iter().expect("body components are table-stored");
+    if settings.collision_detection == CollisionDetection::Swept {
+        let columns = BodyColumns::<true>::new(tables);
+        sort_boxes(&columns, clock.execution(columns.len()), &mut sorted);
+    } else {
+        let columns = BodyColumns::<false>::new(tables);
+        sort_boxes(&columns, clock.execution(columns.len()), &mut sorted);
+    }
     clock.finish();
 }

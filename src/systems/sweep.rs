@@ -5,7 +5,7 @@ use bevy::prelude::*;
 
 use super::broad_phase::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sweep_sorted};
 use crate::components::BodyId;
-use crate::resources::{CollisionDetection, SimulationSettings};
+use crate::resources::SimulationSettings;
 use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
 
 /// Two overlapping bodies: ids `a < b` and their entities.
@@ -49,11 +49,8 @@ fn sweep(
         return;
     }
     let clock = stage.start(SimulationSystems::Sweep);
-    let swept = settings.collision_detection == CollisionDetection::Swept;
-    let columns = BodyColumns::new(
-        bodies.contiguous_iter().expect("body components are table-stored"),
-        swept,
-    );
+    // Only the ids and entities are read here: the boxes are the sort's.
+    let columns = BodyColumns::<false>::new(bodies.contiguous_iter().expect("body components are table-stored"));
     // The sort stage ran on these bodies just before (nothing spawns or
     // despawns between the two stages).
     debug_assert_eq!(sorted.len(), columns.len(), "the sort saw other bodies");
