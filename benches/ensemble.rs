@@ -19,9 +19,9 @@ use bevy::math::DVec3;
 use criterion::{Criterion, criterion_group, criterion_main};
 use kessler::ensemble::{EnsembleConfig, EnsembleFolder, Record, aggregate};
 use kessler::output::write_csv;
-use kessler::state_hash::StateHash;
-use kessler::systems::Totals;
-use kessler::timeline::TimelineRow;
+use kessler::physics::Totals;
+use kessler::record::StateHash;
+use kessler::simulation::TimelineRow;
 
 /// A folder of `members` finished members with `rows` timeline rows each.
 fn made_up_folder(dir: &Path, members: u64, rows: u64) -> (EnsembleFolder, Record) {

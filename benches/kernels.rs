@@ -8,11 +8,12 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use kessler::components::{BodyId, BodyState, GravityRole, Position, PreviousPosition, Velocity};
 use kessler::execution::{Execution, ExecutionMode, SplitPolicy, available_threads};
 use kessler::maths;
+use kessler::maths::Rng;
+use kessler::physics::{Aabb, fragments};
 use kessler::resources::{GravityMethod, Integrator};
-use kessler::rng::Rng;
 use kessler::systems::{
-    Aabb, ContactBody, GravitySource, Octree, Pull, PullScratch, SortedBoxes, fragments, gravity_kernel, prepare_pull,
-    respond, sweep_and_prune,
+    ContactBody, GravitySource, Octree, Pull, PullScratch, SortedBoxes, gravity_kernel, prepare_pull, respond,
+    sweep_and_prune,
 };
 
 const COUNTS: [usize; 3] = [1_000, 10_000, 100_000];

@@ -2,6 +2,6 @@
 //! `cli::main`.
 
 fn main() -> std::process::ExitCode {
-    kessler::heap::hand_back_big_blocks();
+    kessler::memory::hand_back_big_blocks();
     kessler::cli::main()
 }

@@ -1,9 +1,13 @@
 //! Bad input through the real binary: one clear line on stderr, exit code 2,
 //! no panic, nothing overwritten.
 
-mod common;
+mod common {
+    pub mod binary;
+    pub mod errors;
+}
 
-use common::{assert_one_clear_line, corpus, expectation, kessler};
+use common::binary::kessler;
+use common::errors::{assert_one_clear_line, corpus, expectation};
 
 #[test]
 fn every_malformed_scenario_is_a_clear_error() {

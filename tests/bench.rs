@@ -3,9 +3,13 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-mod common;
+mod common {
+    pub mod binary;
+    pub mod errors;
+}
 
-use common::{assert_one_clear_line, corpus, expectation, kessler};
+use common::binary::kessler;
+use common::errors::{assert_one_clear_line, corpus, expectation};
 
 #[test]
 fn bad_configs_are_clear_errors_and_write_nothing() {

@@ -1,16 +1,10 @@
 //! The command line as a user meets it.
 
-use assert_cmd::Command;
-
-/// The binary, blind to the user's own settings and split calibration.
-fn kessler() -> Command {
-    let mut command = Command::cargo_bin("kessler").unwrap();
-    command.env(
-        "XDG_CONFIG_HOME",
-        std::env::temp_dir().join("kessler-tests-without-config"),
-    );
-    command
+mod common {
+    pub mod binary;
 }
+
+use common::binary::kessler;
 
 fn scenario(name: &str) -> String {
     format!("{}/scenarios/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -21,8 +15,14 @@ fn help_lists_the_commands() {
     let out = kessler().arg("--help").output().unwrap();
     assert!(out.status.success());
     let help = String::from_utf8(out.stdout).unwrap();
-    for command in ["run", "headless", "validate"] {
+    // Every command of `src/cli/args.rs`'s `Command`, each on a line of its
+    // own in the list of commands.
+    for command in ["run", "headless", "pairs", "bench", "calibrate", "ensemble", "validate"] {
         assert!(help.contains(command), "--help lacks {command}: {help}");
+        assert!(
+            help.lines().any(|line| line.split_whitespace().next() == Some(command)),
+            "--help lists no command {command}: {help}"
+        );
     }
 }
 

@@ -2,17 +2,18 @@
 //! one response per body per update, and bit-identical modes with real
 //! shattering happening.
 
-use assert_cmd::Command;
+mod common {
+    pub mod binary;
+    pub mod simulation;
+}
+
 use bevy::math::{DVec3, Vec3};
+use common::binary::kessler;
+use common::simulation::sim;
 use kessler::Simulation;
 use kessler::components::{BodyId, BodyState};
 use kessler::execution::{AutoSplit, Execution, ExecutionMode, SplitPolicy};
 use kessler::scenario::Scenario;
-
-fn sim(text: &str) -> Simulation {
-    let scenario = Scenario::parse(text, "test").expect("test scenario parses");
-    Simulation::from_scenario(&scenario, Execution::new(ExecutionMode::Sequential, 1).unwrap()).unwrap()
-}
 
 fn momentum(bodies: &[BodyState]) -> DVec3 {
     bodies.iter().map(|b| b.velocity.as_dvec3() * f64::from(b.mass)).sum()
@@ -348,8 +349,9 @@ fn dump(
 ) -> (Vec<u8>, String) {
     let path = dir.join(format!("{mode}-{threads}-{split}.csv"));
     let scenario = format!("{}/scenarios/{scenario}", env!("CARGO_MANIFEST_DIR"));
-    let out = Command::cargo_bin("kessler")
-        .unwrap()
+    // Blind to the user's files: no calibration of this machine, so `auto`
+    // uses the fallback.
+    let out = kessler()
         .args([
             "headless",
             &scenario,
@@ -364,8 +366,6 @@ fn dump(
             "--dump",
         ])
         .arg(&path)
-        // No calibration of this machine: `auto` uses the fallback.
-        .env("XDG_CONFIG_HOME", dir.join("no-config"))
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -480,14 +480,8 @@ fn cascade_is_bit_identical_with_every_kernel_split() {
 
 /// Runs `kessler headless` with `args`; panics unless it succeeds. Returns
 /// stdout.
-fn headless(args: &[&str], dir: &std::path::Path) -> String {
-    let out = Command::cargo_bin("kessler")
-        .unwrap()
-        .arg("headless")
-        .args(args)
-        .env("XDG_CONFIG_HOME", dir.join("no-config"))
-        .output()
-        .unwrap();
+fn headless(args: &[&str]) -> String {
+    let out = kessler().arg("headless").args(args).output().unwrap();
     assert!(
         out.status.success(),
         "{args:?}: {}",
@@ -519,7 +513,7 @@ fn a_snapshot_continues_the_cascade_exactly() {
                 split,
             ];
             args.extend_from_slice(extra);
-            headless(&args, dir.path())
+            headless(&args)
         };
         let whole = run(&scenario, "120", &["--dump", &path("whole.csv")]);
         let first = run(&scenario, "60", &["--save-scenario", &path("snapshot.ron")]);
@@ -556,7 +550,7 @@ fn a_snapshot_of_the_default_scene_keeps_balls_and_continues_exactly() {
         let run = |from: &str, steps: &str, extra: &[&str]| {
             let mut args = vec![from, "--steps", steps, "--mode", mode, "--split", "always"];
             args.extend_from_slice(extra);
-            headless(&args, dir.path())
+            headless(&args)
         };
         run(&scenario, "80", &["--dump", &path("whole.csv")]);
         run(&scenario, "40", &["--save-scenario", &path("snapshot.ron")]);

@@ -11,14 +11,19 @@
 //! cluster with `.ci/slurm up`), where that fails it. Slurm's clients find
 //! the cluster as usual (`SLURM_CONF`, or `/etc/slurm/slurm.conf`).
 
-mod common;
+mod common {
+    pub mod binary;
+    pub mod errors;
+    pub mod skip;
+}
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{assert_one_clear_line, corpus, expectation, kessler};
+use common::binary::{KESSLER, isolated, kessler};
+use common::errors::{assert_one_clear_line, corpus, expectation};
+use common::skip::Needs;
 
 /// The cascade scene, relative to a config in a temporary folder.
 fn cascade() -> PathBuf {
@@ -61,14 +66,10 @@ fn start_ensemble(config: &Path, out: &Path) -> Child {
 }
 
 /// The binary as a plain command (to spawn and signal), blind to the
-/// user's own files like `common::kessler`.
+/// user's own files like `kessler()`.
 fn spawn(args: &[&std::ffi::OsStr]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_kessler"))
+    isolated(KESSLER)
         .args(args)
-        .env(
-            "XDG_CONFIG_HOME",
-            std::env::temp_dir().join("kessler-tests-without-config"),
-        )
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -490,20 +491,17 @@ fn missing_slurm() -> Option<String> {
     }
 }
 
+/// What the Slurm tests need.
+const SLURM: Needs = Needs {
+    test: "Slurm test",
+    tests: "Slurm tests",
+    require: "KESSLER_REQUIRE_SLURM_TESTS",
+    install: "apt install slurmctld slurmd munge, then `.ci/slurm up DIR`",
+};
+
 /// Whether the test may run; says on stderr why not.
 fn slurm_here(test: &str) -> bool {
-    let Some(missing) = missing_slurm() else {
-        return true;
-    };
-    if std::env::var_os("KESSLER_REQUIRE_SLURM_TESTS").is_some_and(|v| v == "1") {
-        panic!("{test}: {missing}, and KESSLER_REQUIRE_SLURM_TESTS=1 requires the Slurm tests");
-    }
-    let line = format!(
-        "Slurm test `{test}` skipped: {missing} (apt install slurmctld slurmd munge, then `.ci/slurm up DIR`; \
-         KESSLER_REQUIRE_SLURM_TESTS=1 turns this into a failure)\n"
-    );
-    let _ = std::io::stderr().write_all(line.as_bytes());
-    false
+    SLURM.available(test, missing_slurm())
 }
 
 #[test]
@@ -546,7 +544,7 @@ fn a_slurm_job_array_gives_the_local_executors_members_and_resumes_the_missing()
     for line in ["#SBATCH --array=0-5%2", "#SBATCH --cpus-per-task=1"] {
         assert!(script.lines().any(|l| l == line), "missing {line}:\n{script}");
     }
-    let exe = std::fs::canonicalize(env!("CARGO_BIN_EXE_kessler")).unwrap();
+    let exe = std::fs::canonicalize(KESSLER).unwrap();
     assert!(script.contains(&format!("kessler='{}'", exe.display())), "{script}");
     assert!(
         std::fs::read_dir(slurm.join("slurm/logs")).unwrap().count() >= 6,

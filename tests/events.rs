@@ -3,12 +3,13 @@
 //! snapshot with events to come continues exactly; sequential = parallel
 //! with every kind; a recorded session replays to the same state.
 
-#[expect(dead_code, reason = "the shared helpers; these tests need only `kessler`")]
-mod common;
+mod common {
+    pub mod binary;
+}
 
 use std::path::Path;
 
-use common::kessler;
+use common::binary::kessler;
 use kessler::Simulation;
 use kessler::components::BodyState;
 use kessler::execution::{Execution, ExecutionMode};

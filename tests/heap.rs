@@ -1,5 +1,5 @@
 //! The allocator hands big freed blocks back to the system and shares one
-//! heap among all threads (`heap.rs`). Its settings hold for the whole
+//! heap among all threads (`src/memory/heap.rs`). Its settings hold for the whole
 //! process, so these checks run one after another in `main` (no test
 //! harness, no threads of its own), after the settings, as in the binary.
 
@@ -86,7 +86,7 @@ fn what_one_worker_frees_serves_another() {
 fn main() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     {
-        kessler::heap::hand_back_big_blocks();
+        kessler::memory::hand_back_big_blocks();
         a_freed_big_block_leaves_nothing_resident();
         println!("a freed big block leaves nothing resident: ok");
         what_one_worker_frees_serves_another();

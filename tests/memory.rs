@@ -2,17 +2,11 @@
 //! may use stops with one clear line and exit 3, never an allocation abort,
 //! and says at load that its `max_bodies` would not fit.
 
-use assert_cmd::Command;
-
-/// The binary, blind to the user's own settings and calibration.
-fn kessler() -> Command {
-    let mut command = Command::cargo_bin("kessler").unwrap();
-    command.env(
-        "XDG_CONFIG_HOME",
-        std::env::temp_dir().join("kessler-tests-without-config"),
-    );
-    command
+mod common {
+    pub mod binary;
 }
+
+use common::binary::kessler;
 
 /// Every value in range (the floor and budget `thesis_cloud.ron` uses):
 /// 2 000 bodies become millions within a few updates. Found where updates
@@ -37,15 +31,13 @@ fn a_run_that_would_outgrow_its_address_space_stops_cleanly() {
     std::fs::write(&scenario, BOOM).unwrap();
     let dump = dir.path().join("state.csv");
     std::fs::write(&dump, "precious").unwrap();
-    let bin = kessler().get_program().to_owned();
     // 1.5 GB of address space: a few million bodies at most.
-    let out = std::process::Command::new("sh")
+    let out = common::binary::isolated("sh")
         .arg("-c")
         .arg("ulimit -v 1500000 && exec \"$0\" headless \"$1\" --steps 10 --dump \"$2\"")
-        .arg(&bin)
+        .arg(common::binary::KESSLER)
         .arg(&scenario)
         .arg(&dump)
-        .env("XDG_CONFIG_HOME", dir.path().join("no-config"))
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);

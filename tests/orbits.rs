@@ -3,15 +3,12 @@
 //! symmetric sources, the leapfrog's round orbits, bounded energy and
 //! Kepler's period, and energy conservation of an eccentric orbit.
 
-use kessler::Simulation;
-use kessler::execution::{Execution, ExecutionMode};
-use kessler::scenario::Scenario;
-
-fn sim(text: &str) -> Simulation {
-    let scenario = Scenario::parse(text, "test").expect("test scenario parses");
-    let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
-    Simulation::from_scenario(&scenario, execution).unwrap()
+mod common {
+    pub mod simulation;
 }
+
+use common::simulation::sim;
+use kessler::Simulation;
 
 /// The integrators, as scenario files name them.
 const INTEGRATORS: [&str; 2] = ["Leapfrog", "SemiImplicitEuler"];

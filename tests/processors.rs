@@ -11,9 +11,15 @@
 //! pass — unless `KESSLER_REQUIRE_QEMU_TESTS=1` (as in CI), where that fails
 //! them. Emulation is 50–100 times slower, so the runs are short.
 
-use std::io::Write;
+mod common {
+    pub mod binary;
+    pub mod skip;
+}
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+use common::binary::{KESSLER, isolated, kessler};
+use common::skip::Needs;
 
 /// The emulated processors, as QEMU names them.
 const PROCESSORS: [&str; 2] = ["qemu64", "Haswell"];
@@ -36,39 +42,31 @@ fn missing_qemu() -> Option<String> {
     (!on_path).then(|| "`qemu-x86_64` is not installed".into())
 }
 
+/// What the emulated-processor tests need.
+const QEMU: Needs = Needs {
+    test: "processor test",
+    tests: "emulated-processor tests",
+    require: "KESSLER_REQUIRE_QEMU_TESTS",
+    install: "apt install qemu-user",
+};
+
 /// Whether `test` can run under emulation; if not, says so on the
 /// terminal (past the harness's capture) or, when required, fails.
 fn qemu_available(test: &str) -> bool {
-    let Some(missing) = missing_qemu() else {
-        return true;
-    };
-    if std::env::var_os("KESSLER_REQUIRE_QEMU_TESTS").is_some_and(|v| v == "1") {
-        panic!("{test}: {missing}, and KESSLER_REQUIRE_QEMU_TESTS=1 requires the emulated-processor tests");
-    }
-    let line = format!(
-        "processor test `{test}` skipped: {missing} (apt install qemu-user; \
-         KESSLER_REQUIRE_QEMU_TESTS=1 turns this into a failure)\n"
-    );
-    let _ = std::io::stderr().write_all(line.as_bytes());
-    false
+    QEMU.available(test, missing_qemu())
 }
 
 /// `kessler ARGS` here (`processor` none) or under QEMU emulating it;
 /// returns the summary line, failing the test if the run fails.
-fn kessler(processor: Option<&str>, args: &[&str]) -> String {
-    let binary = env!("CARGO_BIN_EXE_kessler");
+fn run_on(processor: Option<&str>, args: &[&str]) -> String {
     let mut command = match processor {
-        None => Command::new(binary),
+        None => kessler(),
         Some(cpu) => {
-            let mut c = Command::new("qemu-x86_64");
-            c.args(["-cpu", cpu, binary]);
-            c
+            let mut qemu = isolated("qemu-x86_64");
+            qemu.args(["-cpu", cpu, KESSLER]);
+            assert_cmd::Command::from_std(qemu)
         }
     };
-    command.env(
-        "XDG_CONFIG_HOME",
-        std::env::temp_dir().join("kessler-tests-without-config"),
-    );
     let out = command.args(args).output().unwrap();
     assert!(
         out.status.success(),
@@ -96,14 +94,14 @@ fn headless<'a>(scene: &'a str, mode: &'a str, steps: &'a str) -> [&'a str; 8] {
 fn hashes_agree(processor: &str) {
     for name in SCENES {
         let path = scene(name);
-        let native = kessler(None, &headless(&path, "sequential", "50"));
+        let native = run_on(None, &headless(&path, "sequential", "50"));
         if name == "collapse" {
             assert!(!native.contains(" 0 shatters"), "the collapse shatters: {native}");
         }
         let expected = hash(&native);
-        assert_eq!(hash(&kessler(None, &headless(&path, "parallel", "50"))), expected);
+        assert_eq!(hash(&run_on(None, &headless(&path, "parallel", "50"))), expected);
         for mode in ["sequential", "parallel"] {
-            let got = hash(&kessler(Some(processor), &headless(&path, mode, "50")));
+            let got = hash(&run_on(Some(processor), &headless(&path, mode, "50")));
             assert_eq!(got, expected, "{name}, {mode}, under {processor}");
         }
     }
@@ -135,11 +133,11 @@ fn a_snapshot_saved_here_continues_alike_elsewhere() {
     let text = |p: &Path| p.to_str().unwrap().to_owned();
     let (straight, saved) = (file("straight.csv"), file("saved.ron"));
     let path = scene("collapse");
-    kessler(
+    run_on(
         None,
         &[&headless(&path, "parallel", "50")[..], &["--dump", &text(&straight)]].concat(),
     );
-    kessler(
+    run_on(
         None,
         &[
             &headless(&path, "parallel", "30")[..],
@@ -150,7 +148,7 @@ fn a_snapshot_saved_here_continues_alike_elsewhere() {
     let straight = std::fs::read(&straight).unwrap();
     for processor in PROCESSORS {
         let continued = file(&format!("continued-{processor}.csv"));
-        kessler(
+        run_on(
             Some(processor),
             &[
                 &headless(&text(&saved), "sequential", "20")[..],

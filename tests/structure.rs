@@ -504,24 +504,139 @@ fn no_folder_of_src_has_an_import_circle() {
     );
 }
 
-/// Gravity's files are a ladder, its unit tests included: no circle, and
-/// each file names only files below it.
-#[test]
-fn gravitys_files_are_a_ladder_tests_included() {
-    let graphs = crate_graphs(true);
-    let gravity = &graphs[&module("crate::systems::gravity")];
-    assert!(circles(gravity).is_empty(), "{gravity:?}");
-    let ladder = [
-        "stage", "walk", "tree", "local", "kernel", "avx512", "avx", "columns", "source",
-    ];
-    let files: BTreeSet<&str> = gravity.keys().map(String::as_str).collect();
-    assert_eq!(files, ladder.into_iter().collect(), "the ladder names every file");
-    for (k, file) in ladder.iter().enumerate() {
-        for named in &gravity[*file] {
-            let below = ladder.iter().position(|f| f == named).unwrap();
-            assert!(below > k, "{file} names {named}, above it");
+/// The module ladders (ARCHITECTURE.md, "The module ladder", points
+/// here): in each folder named, from the top down, every member (a file
+/// or a subfolder) names only members below it, unit tests included. The
+/// crate's top level first: the command line over the window over the
+/// ensembles and benchmarks, over the headless simulation, over its parts,
+/// down to what depends on nothing of Kessler's.
+const LADDERS: &[(&str, &[&str])] = &[
+    (
+        "crate",
+        &[
+            "cli",
+            "ui",
+            "ensemble",
+            "calibration",
+            "bench",
+            "simulation",
+            "timed_events",
+            "scenario",
+            "systems",
+            "physics",
+            "resources",
+            "record",
+            "output",
+            "input",
+            "components",
+            "memory",
+            "maths",
+            "execution",
+        ],
+    ),
+    (
+        "crate::systems",
+        &[
+            "response",
+            "shatter",
+            "sweep",
+            "sort",
+            "integrate",
+            "gravity",
+            "pipeline",
+        ],
+    ),
+    (
+        "crate::systems::gravity",
+        &[
+            "kick",
+            "walk",
+            "tree",
+            "local_expansion",
+            "kernel",
+            "avx512",
+            "avx",
+            "columns",
+            "source",
+        ],
+    ),
+    (
+        "crate::ui",
+        &[
+            "app", "plugins", "overlay", "tools", "measure", "draw", "view", "session", "sets",
+        ],
+    ),
+];
+
+/// The members of `graph` that name one at or above their own rung of
+/// `ladder` (top first), as "member names named".
+fn up_the_ladder(graph: &BTreeMap<String, BTreeSet<String>>, ladder: &[&str]) -> Vec<String> {
+    let mut upward = Vec::new();
+    for (k, member) in ladder.iter().enumerate() {
+        for named in graph.get(*member).into_iter().flatten() {
+            if ladder.iter().position(|m| m == named).is_none_or(|rung| rung <= k) {
+                upward.push(format!("{member} names {named}, above it or off the ladder"));
+            }
         }
     }
+    upward
+}
+
+/// Each folder in [`LADDERS`] is a ladder, its unit tests included: the
+/// ladder names every member, and no member names one above it.
+#[test]
+fn the_module_ladders_hold_tests_included() {
+    let graphs = crate_graphs(true);
+    let mut upward = Vec::new();
+    for (folder, ladder) in LADDERS {
+        let Some(graph) = graphs.get(&module(folder)) else {
+            panic!("{folder} is not a folder of src/");
+        };
+        let members: BTreeSet<&str> = graph.keys().map(String::as_str).collect();
+        assert_eq!(
+            members,
+            ladder.iter().copied().collect(),
+            "the ladder of {folder} names every member, and only those"
+        );
+        upward.extend(
+            up_the_ladder(graph, ladder)
+                .into_iter()
+                .map(|u| format!("{folder}: {u}")),
+        );
+    }
+    assert!(upward.is_empty(), "imports up a ladder: {upward:#?}");
+}
+
+/// A member that names one above it, even only in its unit tests, goes up
+/// the ladder; one that names those below does not.
+#[test]
+fn an_import_up_a_ladder_is_found() {
+    let file = |rel: &str, src: &str| (rel.to_owned(), src.to_owned());
+    let mut files = Files::new();
+    files.insert(module("crate"), file("lib.rs", "mod high; mod mid; mod low;"));
+    files.insert(
+        module("crate::high"),
+        file("high.rs", "use crate::mid::M; use crate::low::L;"),
+    );
+    files.insert(
+        module("crate::mid"),
+        file("mid.rs", "pub struct M; fn f() { crate::low::g(); }"),
+    );
+    files.insert(
+        module("crate::low"),
+        file(
+            "low.rs",
+            "pub struct L; pub fn g() {} #[cfg(test)] mod tests { use crate::mid::M; }",
+        ),
+    );
+    let ladder = ["high", "mid", "low"];
+    let without_tests = graphs(&files, false);
+    assert!(up_the_ladder(&without_tests[&module("crate")], &ladder).is_empty());
+    let with_tests = graphs(&files, true);
+    assert_eq!(
+        up_the_ladder(&with_tests[&module("crate")], &ladder),
+        ["low names mid, above it or off the ladder"]
+    );
 }
 
 /// The graphs are read as written: gravity's ladder, a path in code, a name
@@ -531,7 +646,7 @@ fn the_graphs_see_uses_paths_in_code_and_re_exports() {
     let graphs = crate_graphs(false);
     let gravity = &graphs[&module("crate::systems::gravity")];
     for (from, to) in [
-        ("stage", "walk"),
+        ("kick", "walk"),
         ("walk", "tree"),
         ("tree", "kernel"),
         ("kernel", "avx"),
@@ -543,14 +658,16 @@ fn the_graphs_see_uses_paths_in_code_and_re_exports() {
     }
     assert!(gravity["source"].is_empty(), "{gravity:?}");
     let systems = &graphs[&module("crate::systems")];
-    assert!(systems["plugins"].contains("gravity"), "{systems:?}");
-    assert!(systems["gravity"].contains("stage_clock"), "{systems:?}");
-    assert!(systems["stage_clock"].contains("timings"), "{systems:?}");
+    assert!(systems["gravity"].contains("pipeline"), "{systems:?}");
+    assert!(systems["response"].contains("shatter"), "{systems:?}");
+    let pipeline = &graphs[&module("crate::systems::pipeline")];
+    assert!(pipeline["stage_clock"].contains("timings"), "{pipeline:?}");
     let root = &graphs[&module("crate")];
     assert!(root["scenario"].contains("systems"), "{root:?}");
-    // A test of the schedule builds it with every plugin: seen with tests.
-    assert!(!systems["schedule"].contains("plugins"), "{systems:?}");
-    assert!(crate_graphs(true)[&module("crate::systems")]["schedule"].contains("plugins"));
+    // A unit test names what its file's code does not: seen with tests only.
+    let physics = &graphs[&module("crate::physics")];
+    assert!(!physics["fragments"].contains("aabb"), "{physics:?}");
+    assert!(crate_graphs(true)[&module("crate::physics")]["fragments"].contains("aabb"));
 }
 
 /// Files that name each other make a circle, whether by `use`, by a path in
@@ -591,7 +708,7 @@ fn a_circle_is_found() {
 }
 
 /// Stages are named in prose, never numbered ("stage 4"): their order is
-/// the stage list's (`systems/stages.rs`), and numbers went stale before.
+/// the stage list's (`systems/pipeline/stages.rs`), and numbers went stale before.
 #[test]
 fn no_prose_numbers_a_stage() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));

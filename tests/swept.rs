@@ -4,17 +4,14 @@
 //! crossing-rings scene at the thesis's step finds the collisions a much
 //! finer step finds.
 
-use bevy::math::{DVec3, Vec3};
-use kessler::Simulation;
-use kessler::components::BodyState;
-use kessler::execution::{Execution, ExecutionMode};
-use kessler::maths;
-use kessler::scenario::Scenario;
-
-fn sim(text: &str) -> Simulation {
-    let scenario = Scenario::parse(text, "test").unwrap_or_else(|e| panic!("{e}\n{text}"));
-    Simulation::from_scenario(&scenario, Execution::new(ExecutionMode::Sequential, 1).unwrap()).unwrap()
+mod common {
+    pub mod simulation;
 }
+
+use bevy::math::{DVec3, Vec3};
+use common::simulation::sim;
+use kessler::components::BodyState;
+use kessler::maths;
 
 fn momentum(bodies: &[BodyState]) -> DVec3 {
     bodies.iter().map(|b| b.velocity.as_dvec3() * f64::from(b.mass)).sum()

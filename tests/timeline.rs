@@ -2,11 +2,11 @@
 //! its header and rows, and what the physics keeps — mass through
 //! shattering, momentum in a scene without sources.
 
-use assert_cmd::Command;
-
-fn kessler() -> Command {
-    Command::cargo_bin("kessler").unwrap()
+mod common {
+    pub mod binary;
 }
+
+use common::binary::kessler;
 
 const HEADER: &str = "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,reentries,absorbed_mass,state_hash";
 
@@ -22,7 +22,7 @@ fn timeline(scenario: &str, steps: &str, every: Option<&str>) -> (Vec<Vec<f64>>,
     if let Some(every) = every {
         command.args(["--every", every]);
     }
-    let out = command.env("XDG_CONFIG_HOME", dir.path()).output().unwrap();
+    let out = command.output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&path).unwrap();
     let mut lines = text.lines();

@@ -9,10 +9,16 @@
 
 #![cfg(feature = "gui")]
 
-use std::io::Write;
+mod common {
+    pub mod binary;
+    pub mod skip;
+}
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::{Duration, Instant};
+
+use common::binary::{KESSLER, isolated, kessler};
+use common::skip::Needs;
 
 /// Why the window cannot be opened here, if it cannot.
 fn missing_window_tools() -> Option<String> {
@@ -48,33 +54,38 @@ fn missing_vulkan() -> Option<String> {
     None
 }
 
+/// What the window tests need.
+const WINDOW: Needs = Needs {
+    test: "window test",
+    tests: "window tests",
+    require: "KESSLER_REQUIRE_WINDOW_TESTS",
+    install: "apt install xvfb xauth mesa-vulkan-drivers",
+};
+
 /// Whether `test` can open a window. If not, says so on the terminal (past
 /// the test harness's capture of `eprintln!`) or, when the window tests are
 /// required, fails.
 fn window_available(test: &str) -> bool {
-    available(test, missing_window_tools())
+    WINDOW.available(test, missing_window_tools())
 }
 
 /// Whether `test` can draw offscreen (a Vulkan driver, no X server); as
 /// [`window_available`] if not.
 fn vulkan_available(test: &str) -> bool {
-    available(test, missing_vulkan())
+    WINDOW.available(test, missing_vulkan())
 }
 
-/// Whether `test` can run, `missing` saying why not.
-fn available(test: &str, missing: Option<String>) -> bool {
-    let Some(missing) = missing else {
-        return true;
-    };
-    if std::env::var_os("KESSLER_REQUIRE_WINDOW_TESTS").is_some_and(|v| v == "1") {
-        panic!("{test}: {missing}, and KESSLER_REQUIRE_WINDOW_TESTS=1 requires the window tests");
-    }
-    let line = format!(
-        "window test `{test}` skipped: {missing} (apt install xvfb xauth mesa-vulkan-drivers; \
-         KESSLER_REQUIRE_WINDOW_TESTS=1 turns this into a failure)\n"
-    );
-    let _ = std::io::stderr().write_all(line.as_bytes());
-    false
+/// `kessler` under a virtual X server (a 1280×800 screen), drawing with
+/// Vulkan, blind to the user's own files; its arguments are to follow.
+/// [`run_window`] runs the window with it; other runs under a display use
+/// it directly.
+fn under_xvfb() -> std::process::Command {
+    let mut command = isolated("xvfb-run");
+    command
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(KESSLER)
+        .env("WGPU_BACKEND", "vulkan");
+    command
 }
 
 /// Runs the window app under a virtual X server; returns the screenshot,
@@ -96,15 +107,12 @@ fn run_window_frames(
     let settings_path = dir.join(format!("{name}-settings.ron"));
     std::fs::write(&settings_path, settings).unwrap();
     let started = Instant::now();
-    let out = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
-        .arg(env!("CARGO_BIN_EXE_kessler"))
+    let out = under_xvfb()
         .args(["run", "--frames", &frames.to_string(), "--screenshot"])
         .arg(&shot)
         .arg("--settings")
         .arg(&settings_path)
         .args(extra)
-        .env("WGPU_BACKEND", "vulkan")
         .output()
         .expect("xvfb-run runs");
     let took = started.elapsed();
@@ -387,15 +395,11 @@ fn a_benchmark_render_run_reports_frames_memory_and_gpu_memory() {
     )
     .unwrap();
     let out = dir.path().join("render-results.csv");
-    let result = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
-        .arg(env!("CARGO_BIN_EXE_kessler"))
+    let result = under_xvfb()
         .arg("bench")
         .arg(&config)
         .arg("--out")
         .arg(&out)
-        .env("WGPU_BACKEND", "vulkan")
-        .env("XDG_CONFIG_HOME", dir.path().join("no-config"))
         .output()
         .expect("xvfb-run runs");
     let stderr = String::from_utf8_lossy(&result.stderr);
@@ -527,7 +531,7 @@ fn screenshot_never_overwrites() {
     let dir = tempfile::tempdir().unwrap();
     let shot = dir.path().join("exists.png");
     std::fs::write(&shot, "precious").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+    let out = kessler()
         .args(["run", "--frames", "1", "--screenshot"])
         .arg(&shot)
         .output()
@@ -543,7 +547,7 @@ fn screenshot_never_overwrites() {
 
 #[test]
 fn without_a_display_the_window_says_so() {
-    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+    let out = kessler()
         .args(["run", "--frames", "1"])
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
@@ -564,7 +568,7 @@ fn a_benchmark_with_render_runs_needs_a_display_and_writes_nothing_without() {
         "Bench(runs: [Run(bodies: 10, updates: 2), Render(bodies: 10, frames: 5, method: Instanced)])",
     )
     .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+    let out = kessler()
         .arg("bench")
         .arg(&config)
         .arg("--out")
@@ -598,7 +602,7 @@ fn fifos_as_settings_or_saved_scenario_warn_instead_of_hanging() {
     }
     let dir = tempfile::tempdir().unwrap();
     let fifo = dir.path().join("fifo.ron");
-    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
     assert!(made.success());
     // The saved scenario is the FIFO.
     let settings = format!("(scenario: Some({:?}))", fifo.display().to_string());
@@ -610,14 +614,11 @@ fn fifos_as_settings_or_saved_scenario_warn_instead_of_hanging() {
     assert!(took < Duration::from_secs(100), "took {took:?}");
     // The settings file is the FIFO.
     let shot = dir.path().join("fifo-settings.png");
-    let out = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
-        .arg(env!("CARGO_BIN_EXE_kessler"))
+    let out = under_xvfb()
         .args(["run", "--frames", "3", "--paused", "--bodies", "100", "--screenshot"])
         .arg(&shot)
         .arg("--settings")
         .arg(&fifo)
-        .env("WGPU_BACKEND", "vulkan")
         .output()
         .expect("xvfb-run runs");
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -693,7 +694,7 @@ fn a_session_of_tool_actions_replays_headless_to_the_windows_state() {
         assert!(text.contains(kind), "{kind} not recorded:\n{text}");
     }
     let replay = dir.path().join("replay.csv");
-    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+    let out = kessler()
         .args(["headless", "--steps", &updates.to_string(), "--dump"])
         .arg(&replay)
         .arg(&session)
@@ -779,7 +780,7 @@ fn offscreen_runs_draw_without_an_x_server_and_film_the_run() {
     );
     std::fs::create_dir(&film).unwrap();
     std::fs::write(&settings, "(ups: 60)").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+    let out = kessler()
         .args(["run", "--offscreen", "--frames", "30", "--every", "10", "--screenshot"])
         .arg(&shot)
         .arg("--frames-out")
@@ -825,7 +826,7 @@ fn offscreen_runs_draw_without_an_x_server_and_film_the_run() {
         .count();
     assert!(moved > 100, "the film's pictures are all alike: {moved} pixels changed");
     // A second film into the same folder would overwrite the first.
-    let again = Command::new(env!("CARGO_BIN_EXE_kessler"))
+    let again = kessler()
         .args(["run", "--offscreen", "--frames", "5", "--frames-out"])
         .arg(&film)
         .arg("--settings")
@@ -856,7 +857,7 @@ fn an_offscreen_render_run_needs_no_display() {
         "Bench(runs: [Render(bodies: 2000, frames: 10, method: Instanced, offscreen: true)])",
     )
     .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_kessler"))
+    let out = kessler()
         .args(["bench"])
         .arg(&config)
         .arg("--out")

@@ -7,10 +7,10 @@ use ron::extensions::Extensions;
 use serde::{Deserialize, Deserializer};
 
 use crate::WINDOW_BUILD;
-use crate::draw_method::DrawMethod;
-use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool};
-use crate::input::{InputError, body_count, load_ron, read, whole_between};
+use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
+use crate::input::{InputError, body_count, execution_fields, load_ron, read, whole_between};
 use crate::resources as physics;
+use crate::resources::DrawMethod;
 use crate::scenario::{MAX_BODIES, Scenario};
 
 /// A benchmark: runs of one scenario at several sizes and execution modes.
@@ -83,11 +83,11 @@ impl ThreadsRun {
         let run = |mode, threads| Run {
             bodies: self.bodies,
             updates: self.updates,
-            mode,
+            mode: Some(mode),
             threads,
             stages: Stages::default(),
             split: (mode == ExecutionMode::Parallel).then_some(self.split),
-            pool: WorkerPool::Kessler,
+            pool: Some(WorkerPool::Kessler),
             seed: None,
             shatter_fragments: None,
             shatter_threshold: None,
@@ -104,7 +104,10 @@ fn one_pass() -> u32 {
     1
 }
 
-/// One measured run.
+execution_fields! {
+/// One measured run; how it executes: its own `mode`, `threads`, `split`
+/// and `pool`, else the command line's (`kessler bench --split …`), else
+/// the defaults (parallel on every hardware thread, split `auto`).
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Run")]
 pub struct Run {
@@ -115,23 +118,9 @@ pub struct Run {
     /// Updates to run and average over.
     #[serde(deserialize_with = "updates")]
     pub updates: u64,
-    /// Sequential or parallel; default parallel.
-    #[serde(default)]
-    pub mode: ExecutionMode,
-    /// Worker threads in parallel mode; all hardware threads if omitted.
-    #[serde(default, deserialize_with = "threads")]
-    pub threads: Option<usize>,
     /// Which stages are on (default: all).
     #[serde(default)]
     pub stages: Stages,
-    /// From which body count stages split their work in parallel mode;
-    /// default: `--split`, else `Auto`.
-    #[serde(default, deserialize_with = "split")]
-    pub split: Option<SplitPolicy>,
-    /// Which pool runs the parallel steps: `Kessler` (default, its own)
-    /// or `Bevy` (Bevy's `ComputeTaskPool`); the same results.
-    #[serde(default)]
-    pub pool: WorkerPool,
     /// Seed of the generators and fragments (default: the scenario's).
     #[serde(default, deserialize_with = "seed")]
     pub seed: Option<u64>,
@@ -142,9 +131,12 @@ pub struct Run {
     #[serde(default, deserialize_with = "shatter_threshold")]
     pub shatter_threshold: Option<f32>,
 }
+}
 
+execution_fields! {
 /// A run that opens the window and measures frames (the thesis's
-/// Tables 1–3 and 5).
+/// Tables 1–3 and 5); its simulation executes as its `mode`, `threads`,
+/// `split` and `pool` say, else as the saved settings do.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Render")]
 pub struct RenderRun {
@@ -160,9 +152,6 @@ pub struct RenderRun {
     /// measure drawing alone).
     #[serde(default)]
     pub simulate: bool,
-    /// Execution mode of the simulation (default parallel).
-    #[serde(default)]
-    pub mode: ExecutionMode,
     /// Target updates per second of the simulation (default 60).
     #[serde(default, deserialize_with = "ups")]
     pub ups: Option<u32>,
@@ -174,6 +163,7 @@ pub struct RenderRun {
     /// no display needed, as on a GPU server (default off).
     #[serde(default)]
     pub offscreen: bool,
+}
 }
 
 /// Stage switches of a run; the names are
@@ -210,14 +200,6 @@ fn bodies<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
 
 fn updates<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
     whole_between(d, "updates", 1, crate::input::MAX_UPDATES)
-}
-
-fn threads<'de, D: Deserializer<'de>>(d: D) -> Result<Option<usize>, D::Error> {
-    whole_between(d, "threads", 1, MAX_THREADS).map(Some)
-}
-
-fn split<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SplitPolicy>, D::Error> {
-    read(d, "split").map(Some)
 }
 
 // A run's own value of a physics setting, checked by the settings list's

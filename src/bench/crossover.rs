@@ -11,8 +11,8 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use super::measured_run::RunResult;
 use super::report::times_by_stage;
-use super::run::RunResult;
 use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
 
 /// The crossover of one stage (or `update`) on one thread count.
@@ -172,22 +172,12 @@ pub fn crossovers(passes: &[Vec<RunResult>], wins: Wins) -> Vec<Crossover> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bench::measured_run::test_result;
     use crate::systems::STAGE_COUNT;
 
     fn pass(bodies: u64, mode: ExecutionMode, split: SplitPolicy, update_ns: f64) -> RunResult {
-        RunResult {
-            run: 1,
-            bodies,
-            bodies_start: bodies as usize,
-            bodies_end: bodies as usize,
-            updates: 1,
-            mode,
-            threads: if mode == ExecutionMode::Sequential { 1 } else { 2 },
-            split,
-            pool: WorkerPool::Kessler,
-            update_ns,
-            stage_ns: [update_ns / STAGE_COUNT as f64; STAGE_COUNT],
-        }
+        let threads = if mode == ExecutionMode::Sequential { 1 } else { 2 };
+        test_result(bodies, mode, threads, split, update_ns)
     }
 
     /// Each run's passes from its update times.

@@ -7,12 +7,13 @@ mod config;
 mod crossover;
 mod dispatch;
 mod machine;
-mod memory;
+mod measured_run;
 mod outputs;
+mod passes;
+mod peak_memory;
 mod plot;
 mod render;
 mod report;
-mod run;
 mod threads;
 mod threads_plot;
 
@@ -21,14 +22,15 @@ pub use config::{BenchConfig, BenchRun, MAX_REPEAT, RenderRun, Run, Stages, Thre
 pub use crossover::{Crossover, Wins, crossovers};
 pub use dispatch::empty_step_ns;
 pub use machine::{machine_report, plot_footer, this_cpu, utc_now};
-pub use memory::{peak_memory, reset_peak_memory};
+pub use measured_run::{RunDefaults, RunError, RunResult, measure, median_pass};
 pub use outputs::{BenchOutputError, BenchOutputs, Finished, GrowingOutputs};
+pub use passes::{PassError, PassProgress, empty_step_rows, measure_passes};
+pub use peak_memory::{peak_memory, reset_peak_memory};
 pub use plot::{png, svg};
 pub use render::{FrameReport, RenderRow, RenderRunError, WINDOW_WARMUP_FRAMES, child_args, measure_render};
 pub use report::{
     CONTRACT_STAGE_COLUMNS, OverheadRow, PassRow, column_ns, columns_in_stage_order, empty_step_row, overhead_rows,
     stage_columns, times_by_stage,
 };
-pub use run::{RunDefaults, RunError, RunResult, measure, median_pass};
 pub use threads::{ThreadsRow, thread_rows};
 pub use threads_plot::{threads_png, threads_svg};

@@ -19,7 +19,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::crossover::Crossover;
-use super::run::RunResult;
+use super::measured_run::RunResult;
 use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
 use crate::output::{FONT, Figure, Labels, PLOT_SIZE, PlotError, figure_png, figure_svg, grouped, page};
 use crate::systems::STAGES;
@@ -298,24 +298,14 @@ fn draw_legend<'a, DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bench::measured_run::test_result;
     use crate::systems::{STAGE_COUNT, SimulationSystems};
 
     fn result(bodies: usize, mode: ExecutionMode, threads: usize, ns: f64) -> RunResult {
-        let mut stage_ns = [ns / 8.0; STAGE_COUNT];
-        stage_ns[SimulationSystems::Response as usize] = 0.0;
-        RunResult {
-            run: 1,
-            bodies: bodies as u64,
-            bodies_start: bodies,
-            bodies_end: bodies,
-            updates: 1,
-            mode,
-            threads,
-            split: SplitPolicy::Always,
-            pool: WorkerPool::Kessler,
-            update_ns: ns,
-            stage_ns,
-        }
+        let mut result = test_result(bodies as u64, mode, threads, SplitPolicy::Always, ns);
+        result.stage_ns = [ns / 8.0; STAGE_COUNT];
+        result.stage_ns[SimulationSystems::Response as usize] = 0.0;
+        result
     }
 
     fn results() -> Vec<RunResult> {

@@ -117,7 +117,7 @@ crate::csv_row!(RenderRow, |r| {
     bodies: r.report.bodies,
     method: r.run.method,
     simulate: r.run.simulate,
-    mode: r.run.mode,
+    mode: r.run.execution().mode(),
     vsync: if r.run.vsync { "on" } else { "off" },
     frames: r.report.frames,
     mean_fps: format_args!("{:.2}", r.fps()),
@@ -150,7 +150,7 @@ pub fn child_args(run: &RenderRun, scenario: Option<&Path>, report: &Path, setti
             "--vsync",
             if run.vsync { "on" } else { "off" },
             "--mode",
-            run.mode.name(),
+            run.execution().mode().name(),
             "--ups",
             &run.ups.unwrap_or(60).to_string(),
             "--settings",
@@ -165,6 +165,17 @@ pub fn child_args(run: &RenderRun, scenario: Option<&Path>, report: &Path, setti
     }
     if run.offscreen {
         args.push("--offscreen".into());
+    }
+    let options = run.execution();
+    let given = [
+        ("--threads", options.threads.map(|t| t.to_string())),
+        ("--split", options.split.map(|s| s.to_string())),
+        ("--pool", options.pool.map(|p| p.name().to_owned())),
+    ];
+    for (flag, value) in given {
+        if let Some(value) = value {
+            args.extend([flag.to_owned(), value]);
+        }
     }
     args
 }
@@ -199,8 +210,8 @@ pub fn measure_render(run: &RenderRun, scenario: Option<&Path>) -> Result<FrameR
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::draw_method::DrawMethod;
     use crate::execution::ExecutionMode;
+    use crate::resources::DrawMethod;
 
     fn run() -> RenderRun {
         RenderRun {
@@ -208,10 +219,13 @@ mod tests {
             frames: 50,
             method: DrawMethod::MeshPerBody,
             simulate: false,
-            mode: ExecutionMode::Parallel,
             ups: None,
             vsync: false,
             offscreen: false,
+            mode: Some(ExecutionMode::Parallel),
+            threads: None,
+            split: None,
+            pool: None,
         }
     }
 

@@ -4,7 +4,7 @@
 
 use std::io;
 
-use super::run::RunResult;
+use super::measured_run::RunResult;
 use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
 use crate::output::{Cells, CsvRow};
 use crate::systems::STAGES;
@@ -193,22 +193,18 @@ pub fn empty_step_row(threads: usize, pool: WorkerPool, with_ns: f64, without_ns
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bench::measured_run::test_result;
     use crate::output::{header, line};
     use crate::systems::{STAGE_COUNT, SimulationSystems};
 
     fn result(run: usize, bodies: u64, mode: ExecutionMode, threads: usize, split: SplitPolicy, ns: f64) -> RunResult {
         RunResult {
             run,
-            bodies,
             bodies_start: bodies as usize + 1,
             bodies_end: bodies as usize + 4,
             updates: 10,
-            mode,
-            threads,
-            split,
-            pool: WorkerPool::Kessler,
-            update_ns: ns,
             stage_ns: [ns / 8.0; STAGE_COUNT],
+            ..test_result(bodies, mode, threads, split, ns)
         }
     }
 

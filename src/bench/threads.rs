@@ -6,8 +6,8 @@
 use std::io;
 
 use super::config::ThreadsRun;
+use super::measured_run::RunResult;
 use super::report::times_by_stage;
-use super::run::RunResult;
 use crate::execution::{ExecutionMode, WorkerPool};
 use crate::output::{Cells, CsvRow};
 use crate::systems::STAGES;
@@ -103,26 +103,16 @@ impl CsvRow for ThreadsRow {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bench::measured_run::test_result;
     use crate::execution::SplitPolicy;
     use crate::output::header;
     use crate::systems::STAGE_COUNT;
 
     fn result(bodies: u64, mode: ExecutionMode, threads: usize, split: SplitPolicy, ns: f64) -> RunResult {
-        let mut stage_ns = [ns / 10.0; STAGE_COUNT];
-        stage_ns[STAGE_COUNT - 1] = 0.0;
-        RunResult {
-            run: 1,
-            bodies,
-            bodies_start: bodies as usize,
-            bodies_end: bodies as usize,
-            updates: 1,
-            mode,
-            threads,
-            split,
-            pool: WorkerPool::Kessler,
-            update_ns: ns,
-            stage_ns,
-        }
+        let mut result = test_result(bodies, mode, threads, split, ns);
+        result.stage_ns = [ns / 10.0; STAGE_COUNT];
+        result.stage_ns[STAGE_COUNT - 1] = 0.0;
+        result
     }
 
     #[test]

@@ -53,11 +53,11 @@ fn runs_at(bodies: u64, threads: usize) -> [Run; 2] {
     let run = |mode, split| Run {
         bodies,
         updates: updates_for(bodies),
-        mode,
+        mode: Some(mode),
         threads: Some(threads),
         stages: Stages::default(),
         split: Some(split),
-        pool: WorkerPool::Kessler,
+        pool: Some(WorkerPool::Kessler),
         seed: None,
         shatter_fragments: None,
         shatter_threshold: None,

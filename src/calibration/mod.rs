@@ -2,8 +2,8 @@
 //! parallel"): from which body count each stage pays for splitting its
 //! work, measured by `kessler calibrate` and used by split policy `Auto`.
 
-mod file;
 mod measure;
+mod stored;
 
-pub use file::{Calibration, auto_split_from, load_calibration, machine_auto_split};
 pub use measure::{LADDER, NOT_FOUND, PASSES, calibrate, threads_to_measure};
+pub use stored::{Calibration, auto_split_from, load_calibration, machine_auto_split};

@@ -5,9 +5,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::draw_method::DrawMethod;
-use crate::execution::{ExecutionMode, SplitPolicy};
-use crate::resources::GravityMethod;
+use crate::input::ExecutionOptions;
+use crate::resources::{DrawMethod, GravityMethod};
 
 /// Thousands of bodies orbiting a planet: colliding, bouncing, shattering.
 #[derive(Debug, Parser)]
@@ -31,7 +30,7 @@ pub enum Command {
         scenario: PathBuf,
         /// How the sweep executes.
         #[command(flatten)]
-        execution: ExecutionArgs,
+        execution: ExecutionOptions,
     },
     /// Measure the runs of a benchmark config; write CSV results and, beside
     /// them, every pass, the overhead of splitting, the crossover, the
@@ -44,13 +43,11 @@ pub enum Command {
         /// `<stem>.svg` and `<stem>.png` go beside it.
         #[arg(long, value_name = "FILE", default_value = "results.csv")]
         out: PathBuf,
-        /// Split policy of runs that set none.
-        #[arg(long, value_name = "auto|always|N", default_value_t = SplitPolicy::Auto, allow_negative_numbers = true)]
-        split: SplitPolicy,
-        /// How gravity is summed in every run: `auto` (`direct` below 512
-        /// sources, else `tree`), `direct`, or `tree` / `tree:THETA`
-        /// (Barnes–Hut) [default: the scenario's].
-        #[arg(long, value_name = "auto|direct|tree[:THETA]")]
+        /// How the runs that do not say execute.
+        #[command(flatten, next_help_heading = "Execution of the runs that do not say")]
+        execution: ExecutionOptions,
+        /// How gravity is summed in every run.
+        #[arg(long, value_name = "auto|direct|tree[:THETA]", help = GravityMethod::help())]
         gravity: Option<GravityMethod>,
     },
     /// Measure from which body count each stage pays for splitting its work
@@ -144,66 +141,6 @@ pub enum EnsembleAction {
     },
 }
 
-/// How a simulation executes.
-#[derive(Debug, Clone, Args)]
-pub struct ExecutionArgs {
-    /// Sequential or parallel stages.
-    #[arg(long, value_enum, default_value_t = ModeArg::Parallel)]
-    pub mode: ModeArg,
-    /// Worker threads in parallel mode [default: all hardware threads].
-    #[arg(
-        long,
-        value_parser = crate::input::threads_arg,
-        allow_negative_numbers = true
-    )]
-    pub threads: Option<usize>,
-    /// From which body count stages split their work in parallel mode:
-    /// `auto` (this machine's calibration, see `kessler calibrate`),
-    /// `always`, or a body count.
-    #[arg(long, value_name = "auto|always|N", default_value_t = SplitPolicy::Auto, allow_negative_numbers = true)]
-    pub split: SplitPolicy,
-    /// Which pool runs the parallel steps: Kessler's own, or Bevy's
-    /// `ComputeTaskPool` (the same results).
-    #[arg(long, value_enum, default_value_t = PoolArg::Kessler)]
-    pub pool: PoolArg,
-}
-
-/// `--pool` on the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum PoolArg {
-    /// Kessler's own worker pool.
-    Kessler,
-    /// Bevy's `ComputeTaskPool`.
-    Bevy,
-}
-
-impl From<PoolArg> for crate::execution::WorkerPool {
-    fn from(pool: PoolArg) -> Self {
-        match pool {
-            PoolArg::Kessler => Self::Kessler,
-            PoolArg::Bevy => Self::Bevy,
-        }
-    }
-}
-
-/// `--mode` on the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ModeArg {
-    /// Every stage on one thread.
-    Sequential,
-    /// Stages split over a pool of worker threads.
-    Parallel,
-}
-
-impl From<ModeArg> for ExecutionMode {
-    fn from(mode: ModeArg) -> Self {
-        match mode {
-            ModeArg::Sequential => Self::Sequential,
-            ModeArg::Parallel => Self::Parallel,
-        }
-    }
-}
-
 /// How the window runs; everything but the scenario is optional.
 #[derive(Debug, Clone, Default, Args)]
 pub struct RunArgs {
@@ -233,13 +170,9 @@ pub struct RunArgs {
     /// (overrides the saved setting).
     #[arg(long, value_enum, value_name = "on|off")]
     pub vsync: Option<OnOff>,
-    /// Sequential or parallel stages (overrides the saved setting).
-    #[arg(long, value_enum)]
-    pub mode: Option<ModeArg>,
-    /// From which body count stages split their work (overrides the saved
-    /// setting).
-    #[arg(long, value_name = "auto|always|N", allow_negative_numbers = true)]
-    pub split: Option<SplitPolicy>,
+    /// How the simulation executes (each overrides the saved setting).
+    #[command(flatten, next_help_heading = "Execution (each overrides the saved setting)")]
+    pub execution: ExecutionOptions,
     /// Target simulation updates per second, 1–600 (overrides the saved
     /// setting).
     #[arg(long, value_name = "UPS", value_parser = crate::input::ups_arg, allow_negative_numbers = true)]
@@ -318,7 +251,7 @@ pub struct HeadlessArgs {
     pub steps: u64,
     /// How the simulation executes.
     #[command(flatten)]
-    pub execution: ExecutionArgs,
+    pub execution: ExecutionOptions,
     /// Write the final state as CSV (`id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts`).
     #[arg(long, value_name = "FILE")]
     pub dump: Option<PathBuf>,
@@ -326,10 +259,8 @@ pub struct HeadlessArgs {
     /// the settings; running on from it continues this run exactly.
     #[arg(long, value_name = "FILE")]
     pub save_scenario: Option<PathBuf>,
-    /// How gravity is summed: `auto` (`direct` below 512 sources, else
-    /// `tree`), `direct`, or `tree` / `tree:THETA` (Barnes–Hut) [default: the
-    /// scenario's].
-    #[arg(long, value_name = "auto|direct|tree[:THETA]")]
+    /// How gravity is summed.
+    #[arg(long, value_name = "auto|direct|tree[:THETA]", help = GravityMethod::help())]
     pub gravity: Option<GravityMethod>,
     /// Write a row every K updates (`--every`) as CSV
     /// (`update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,reentries,absorbed_mass,state_hash`).

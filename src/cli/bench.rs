@@ -10,21 +10,22 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::Failure;
 use crate::bench::{
-    self, BenchConfig, BenchOutputs, GrowingOutputs, OverheadRow, RenderRow, RunDefaults, RunResult, Wins, crossovers,
-    empty_step_ns, empty_step_row, machine_report, measure_render, thread_rows,
+    self, BenchConfig, BenchOutputs, GrowingOutputs, OverheadRow, PassError, PassProgress, RenderRow, RunDefaults,
+    RunResult, Wins, crossovers, machine_report, measure_render, thread_rows,
 };
 use crate::calibration::machine_auto_split;
-use crate::execution::{Execution, ExecutionMode, SplitPolicy, WorkerPool, available_threads};
+use crate::execution::{ExecutionMode, WorkerPool};
+use crate::input::ExecutionOptions;
+use crate::input::default_calibration_path;
 use crate::resources::GravityMethod;
 use crate::scenario::Scenario;
-use crate::user_files::default_calibration_path;
 
 /// Runs the command: load and check everything, measure, write. `gravity`
 /// replaces the scenario's gravity method in every run.
 pub fn bench(
     config_path: &Path,
     out: &Path,
-    split: SplitPolicy,
+    execution: ExecutionOptions,
     gravity: Option<GravityMethod>,
 ) -> Result<(), Failure> {
     let config = BenchConfig::load(config_path)?;
@@ -57,7 +58,7 @@ pub fn bench(
     let sized = config.size_runs(&scenario, config_path)?;
     super::headless::warn_of_memory(&scenario);
     let defaults = RunDefaults {
-        split,
+        execution,
         auto: machine_auto_split(),
     };
     let headless = config.update_runs().next().is_some();
@@ -102,33 +103,17 @@ pub fn bench(
     Ok(())
 }
 
-/// The bare cost of a parallel step as overhead rows: on Bevy's
-/// `ComputeTaskPool` (with the threads it has), and on Kessler's pool with
-/// 1, 2, Bevy's count (the same threads side by side) and every hardware
-/// thread.
+/// The bare cost of a parallel step as overhead rows, each said on stderr.
 fn measure_empty_steps() -> Result<Vec<OverheadRow>, Failure> {
-    let bevy_threads = Execution::new(ExecutionMode::Parallel, available_threads())?
-        .with_pool(WorkerPool::Bevy)
-        .threads_used();
-    let mut kessler_threads = vec![1, 2, bevy_threads, available_threads()];
-    kessler_threads.sort_unstable();
-    kessler_threads.dedup();
-    kessler_threads
-        .into_iter()
-        .map(|threads| (threads, WorkerPool::Kessler))
-        .chain(std::iter::once((bevy_threads, WorkerPool::Bevy)))
-        .map(|(threads, pool)| {
-            let (split, whole) = empty_step_ns(threads, pool)?;
-            eprintln!(
-                "one parallel step of a near-empty kernel on {threads} thread{} of {}'s pool: {:.2} µs (whole: {:.3} µs)",
-                if threads == 1 { "" } else { "s" },
-                if pool == WorkerPool::Bevy { "Bevy" } else { "Kessler" },
-                split / 1e3,
-                whole / 1e3
-            );
-            Ok(empty_step_row(threads, pool, split, whole))
-        })
-        .collect()
+    Ok(bench::empty_step_rows(|threads, pool, split, whole| {
+        eprintln!(
+            "one parallel step of a near-empty kernel on {threads} thread{} of {}'s pool: {:.2} µs (whole: {:.3} µs)",
+            if threads == 1 { "" } else { "s" },
+            if pool == WorkerPool::Bevy { "Bevy" } else { "Kessler" },
+            split / 1e3,
+            whole / 1e3
+        );
+    })?)
 }
 
 fn print_summary(
@@ -184,11 +169,7 @@ fn print_summary(
     println!("written: {}", written.join("; "));
 }
 
-/// Measures every headless run `config.repeat` times, pass after pass
-/// through all runs — so that a slow spell of the machine falls on several
-/// runs rather than on all passes of one — and keeps each run's median
-/// pass. Every pass is written as it ends; a run's median when its last
-/// pass ends. Returns the medians and every run's passes.
+/// Measures every headless run with a progress bar (`bench::measure_passes`).
 fn measure_passes(
     config: &BenchConfig,
     sized: &[Scenario],
@@ -196,31 +177,17 @@ fn measure_passes(
     growing: &mut GrowingOutputs,
     config_path: &Path,
 ) -> Result<(Vec<RunResult>, Vec<Vec<RunResult>>), Failure> {
-    let passes = u64::from(config.repeat);
-    let mut progress = BenchProgress::new(config, passes);
-    let runs: Vec<(usize, &bench::Run)> = config.update_runs().collect();
-    let mut measured: Vec<Vec<RunResult>> = vec![Vec::new(); runs.len()];
-    let mut medians = Vec::new();
-    for pass in 1..=passes {
-        for (k, &(i, run)) in runs.iter().enumerate() {
-            progress.start(i, pass, run);
-            bench::reset_peak_memory();
-            let result =
-                bench::measure(i + 1, &sized[i], run, defaults, |done| progress.advance(done)).map_err(|e| {
-                    Failure::from(e).context(format_args!("{}: runs[{}]", config_path.display(), config.origin(i)))
-                })?;
-            progress.finish(run, &result, bench::peak_memory());
-            growing.add_pass(pass, &result)?;
-            measured[k].push(result);
-            if pass == passes {
-                let median = bench::median_pass(measured[k].clone()).expect("at least one pass");
-                growing.add_result(&median)?;
-                medians.push(median);
-            }
-        }
-    }
+    let mut progress = BenchProgress::new(config, u64::from(config.repeat));
+    let measured = bench::measure_passes(config, sized, defaults, growing, &mut progress);
     progress.clear();
-    Ok((medians, measured))
+    measured.map_err(|e| match e {
+        PassError::Run { index, error } => Failure::from(error).context(format_args!(
+            "{}: runs[{}]",
+            config_path.display(),
+            config.origin(index)
+        )),
+        PassError::Write(e) => Failure::from(e),
+    })
 }
 
 /// The progress bar over all passes, and a line per measured run.
@@ -232,6 +199,20 @@ struct BenchProgress {
     finished: u64,
     /// `(pass k/N)`, or nothing for a single pass.
     of_passes: String,
+}
+
+impl PassProgress for BenchProgress {
+    fn start(&mut self, index: usize, pass: u64, run: &bench::Run, mode: ExecutionMode) {
+        self.start_run(index, pass, run, mode);
+    }
+
+    fn advance(&self, done: u64) {
+        self.bar.set_position(self.finished + 1 + done);
+    }
+
+    fn finish(&mut self, run: &bench::Run, result: &RunResult, peak_memory: Option<u64>) {
+        self.finish_run(run, result, peak_memory);
+    }
 }
 
 impl BenchProgress {
@@ -255,7 +236,7 @@ impl BenchProgress {
         }
     }
 
-    fn start(&mut self, index: usize, pass: u64, run: &bench::Run) {
+    fn start_run(&mut self, index: usize, pass: u64, run: &bench::Run, mode: ExecutionMode) {
         self.of_passes = if self.passes > 1 {
             format!(" (pass {pass}/{})", self.passes)
         } else {
@@ -267,16 +248,11 @@ impl BenchProgress {
             self.runs,
             self.of_passes,
             run.bodies,
-            run.mode
+            mode
         ));
     }
 
-    /// `done` measured updates of the current run.
-    fn advance(&self, done: u64) {
-        self.bar.set_position(self.finished + 1 + done);
-    }
-
-    fn finish(&mut self, run: &bench::Run, result: &RunResult, peak_memory: Option<u64>) {
+    fn finish_run(&mut self, run: &bench::Run, result: &RunResult, peak_memory: Option<u64>) {
         self.finished += run.updates + 1;
         let memory = peak_memory.map_or(String::new(), |peak| {
             format!(

@@ -7,8 +7,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::Failure;
 use crate::calibration::{calibrate, load_calibration, threads_to_measure};
 use crate::execution::available_threads;
+use crate::input::default_calibration_path;
 use crate::output::{Output, check_outputs};
-use crate::user_files::default_calibration_path;
 
 /// Runs the command.
 pub fn calibrate_command(threads: Option<usize>, out: Option<&Path>) -> Result<(), Failure> {

@@ -76,7 +76,7 @@ fn run(args: &EnsembleArgs, config: &Path, out: &Path) -> Result<(), Failure> {
         Executor::Local => {
             let jobs = args
                 .jobs
-                .unwrap_or_else(|| (available_threads() / record.config.threads).max(1));
+                .unwrap_or_else(|| (available_threads() / record.config.member_execution().threads()).max(1));
             let ran = run_local(&folder, &to_run, jobs, &exe)?;
             eprintln!(
                 "kessler: {root}: {} members run in {:.1} s, {jobs} at a time ({} failed)",
@@ -87,8 +87,14 @@ fn run(args: &EnsembleArgs, config: &Path, out: &Path) -> Result<(), Failure> {
             finish(&folder, &record)
         }
         Executor::Slurm => {
-            let script =
-                sbatch_script(&folder, &exe, &to_run, args.jobs, record.config.threads).map_err(Failure::input)?;
+            let script = sbatch_script(
+                &folder,
+                &exe,
+                &to_run,
+                args.jobs,
+                record.config.member_execution().threads(),
+            )
+            .map_err(Failure::input)?;
             let id = submit(&folder, &script, &args.slurm_args, &to_run)?;
             println!(
                 "{}",

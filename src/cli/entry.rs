@@ -8,7 +8,7 @@ use clap::error::ErrorKind;
 use crate::output::printable;
 
 use super::{
-    Cli, Command, EXIT_BAD_INPUT, Failure, RunArgs, bench, calibrate, ensemble, headless, pairs, run, validate,
+    Cli, Command, EXIT_BAD_INPUT, Failure, RunArgs, bench, calibrate, ensemble, headless, pairs, validate, window,
 };
 
 /// Entry point of the binary.
@@ -47,14 +47,14 @@ fn one_line(rendered: &str) -> String {
 
 fn dispatch(command: Option<Command>) -> Result<(), Failure> {
     match command.unwrap_or(Command::Run(RunArgs::default())) {
-        Command::Run(args) => run::run(args),
+        Command::Run(args) => window::run(args),
         Command::Headless(args) => headless::headless(&args),
         Command::Bench {
             config,
             out,
-            split,
+            execution,
             gravity,
-        } => bench::bench(&config, &out, split, gravity),
+        } => bench::bench(&config, &out, execution, gravity),
         Command::Calibrate { threads, out } => calibrate::calibrate_command(threads, out.as_deref()),
         Command::Pairs { scenario, execution } => pairs::pairs(&scenario, &execution),
         Command::Ensemble(args) => ensemble::ensemble(&args),

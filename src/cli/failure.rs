@@ -9,6 +9,7 @@ use crate::execution::ExecutionError;
 use crate::input::InputError;
 use crate::output::{OutputError, WriteError};
 use crate::scenario::CannotResize;
+use crate::simulation::HeadlessError;
 
 /// Exit code for bad input (arguments, scenario files, output paths).
 pub const EXIT_BAD_INPUT: u8 = 2;
@@ -89,6 +90,20 @@ impl From<RunError> for Failure {
         let code = match e {
             RunError::Stopped(_) => EXIT_SIMULATION_STOPPED,
             _ => EXIT_BAD_INPUT,
+        };
+        Self {
+            message: e.to_string(),
+            code,
+        }
+    }
+}
+
+impl From<HeadlessError> for Failure {
+    fn from(e: HeadlessError) -> Self {
+        let code = match e {
+            HeadlessError::Scenario(_) => EXIT_BAD_INPUT,
+            HeadlessError::Stopped(_) => EXIT_SIMULATION_STOPPED,
+            HeadlessError::Write(_) => EXIT_FAILURE,
         };
         Self {
             message: e.to_string(),

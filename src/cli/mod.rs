@@ -9,12 +9,9 @@ mod entry;
 mod failure;
 mod headless;
 mod pairs;
-mod run;
 mod validate;
+mod window;
 
-pub use args::{
-    Cli, Command, EnsembleAction, EnsembleArgs, ExecutionArgs, Executor, HeadlessArgs, ModeArg, OnOff, RenderArg,
-    RunArgs,
-};
+pub use args::{Cli, Command, EnsembleAction, EnsembleArgs, Executor, HeadlessArgs, OnOff, RenderArg, RunArgs};
 pub use entry::main;
 pub use failure::{EXIT_BAD_INPUT, EXIT_FAILURE, EXIT_INTERRUPTED, EXIT_SIMULATION_STOPPED, Failure};

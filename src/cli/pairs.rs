@@ -3,16 +3,18 @@
 use std::io::BufWriter;
 use std::path::Path;
 
+use super::Failure;
 use super::headless::execution;
-use super::{ExecutionArgs, Failure};
 use crate::components::BodyId;
+use crate::input::ExecutionOptions;
 use crate::output::write_csv;
+use crate::physics::Aabb;
 use crate::scenario::Scenario;
-use crate::systems::{Aabb, SortedBoxes, id_pairs, sweep_and_prune};
+use crate::systems::{SortedBoxes, id_pairs, sweep_and_prune};
 
 /// Prints `a,b` and then one line per overlapping pair, lower id first,
 /// sorted.
-pub fn pairs(path: &Path, args: &ExecutionArgs) -> Result<(), Failure> {
+pub fn pairs(path: &Path, args: &ExecutionOptions) -> Result<(), Failure> {
     let bodies = Scenario::load(path)?.bodies()?;
     let boxes: Vec<Aabb> = bodies.iter().map(|b| Aabb::new(b.position, b.half_extents)).collect();
     let ids: Vec<BodyId> = bodies.iter().map(|b| b.id).collect();

@@ -16,7 +16,7 @@ use super::folder::{EnsembleFolder, Record};
 use super::plot::{Band, BodiesPlot};
 use crate::input::{InputError, read_text};
 use crate::output::{CsvTable, commit_all, stage};
-use crate::timeline::TimelineRow;
+use crate::simulation::TimelineRow;
 
 /// The mean, median, 5th and 95th percentile of some values.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -11,15 +11,20 @@ use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::ser::{SerializeSeq, SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
-use crate::execution::{ExecutionMode, MAX_THREADS};
-use crate::input::{FieldName, InputError, MAX_UPDATES, parse_ron, read, read_text, whole_between};
+use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
+use crate::input::{
+    ExecutionOptions, FieldName, InputError, MAX_UPDATES, execution_fields, parse_ron, read_text, whole_between,
+};
 use crate::resources::{self as physics, SETTINGS, SimulationSettings};
 
 /// Most members one ensemble may have, over all its combinations.
 pub const MAX_MEMBERS: u64 = 1_000_000;
 
+execution_fields! {
 /// An ensemble: `members` runs of one scenario for every combination of
-/// the varied settings, each with a seed of its own.
+/// the varied settings, each with a seed of its own. Each member executes
+/// as its `mode`, `threads`, `split` and `pool` say (results are the same
+/// either way), else as [`MEMBER_EXECUTION`] does.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename = "Ensemble")]
 pub struct EnsembleConfig {
@@ -42,23 +47,23 @@ pub struct EnsembleConfig {
     /// Physics settings to vary: every combination of their values.
     #[serde(default, skip_serializing_if = "Vary::is_empty")]
     pub vary: Vary,
-    /// How each member executes (results are the same either way).
-    #[serde(default, deserialize_with = "mode")]
-    pub mode: ExecutionMode,
-    /// Worker threads per member (in parallel mode).
-    #[serde(default = "default_threads", deserialize_with = "threads")]
-    pub threads: usize,
 }
+}
+
+/// How a member executes where the config does not say: parallel on one
+/// thread, split `auto` (members run side by side, each on its own core).
+pub const MEMBER_EXECUTION: ExecutionOptions = ExecutionOptions {
+    mode: Some(ExecutionMode::Parallel),
+    threads: Some(1),
+    split: Some(SplitPolicy::Auto),
+    pool: Some(WorkerPool::Kessler),
+};
 
 fn default_every() -> u64 {
     100
 }
 
 fn default_seed() -> u64 {
-    1
-}
-
-fn default_threads() -> usize {
     1
 }
 
@@ -72,14 +77,6 @@ fn every<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
 
 fn members<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
     whole_between(d, "members", 1, MAX_MEMBERS)
-}
-
-fn mode<'de, D: Deserializer<'de>>(d: D) -> Result<ExecutionMode, D::Error> {
-    read(d, "mode")
-}
-
-fn threads<'de, D: Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
-    whole_between(d, "threads", 1, MAX_THREADS)
 }
 
 /// One varied setting: its name and its values, each held as the default
@@ -233,6 +230,12 @@ impl Serialize for Vary {
 }
 
 impl EnsembleConfig {
+    /// How each member executes: the config's options, else
+    /// [`MEMBER_EXECUTION`]'s.
+    pub fn member_execution(&self) -> ExecutionOptions {
+        self.execution().or(MEMBER_EXECUTION)
+    }
+
     /// Reads and checks a config file.
     pub fn load(path: &Path) -> Result<Self, InputError> {
         Self::parse(&read_text(path)?, &path.display().to_string())
@@ -290,8 +293,8 @@ impl EnsembleConfig {
             ("members", self.members.to_string()),
             ("seed", self.seed.to_string()),
             ("vary", if self.vary.is_empty() { "()".to_owned() } else { vary }),
-            ("mode", format!("{:?}", self.mode)),
-            ("threads", self.threads.to_string()),
+            ("mode", format!("{:?}", self.member_execution().mode())),
+            ("threads", self.member_execution().threads().to_string()),
         ]
     }
 }
@@ -310,8 +313,11 @@ mod tests {
             "Ensemble(steps: 10, members: 3, vary: (shatter_threshold: [2.0, 3.0], gravity: [Direct, Tree(theta: 0.5)], shatter_fragments: [4, 5, 6]))",
         )
         .unwrap();
-        assert_eq!((config.every, config.seed, config.threads), (100, 1, 1));
-        assert_eq!(config.mode, ExecutionMode::Parallel);
+        assert_eq!(
+            (config.every, config.seed, config.member_execution().threads()),
+            (100, 1, 1)
+        );
+        assert_eq!(config.member_execution().mode(), ExecutionMode::Parallel);
         assert_eq!(config.vary.combinations(), 12);
         assert_eq!(config.total_members(), 36);
         assert_eq!(

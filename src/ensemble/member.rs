@@ -14,11 +14,10 @@ use super::folder::{EnsembleFolder, Record, hash_text};
 use super::seeds::member_seed;
 use crate::Simulation;
 use crate::calibration::machine_auto_split;
-use crate::execution::{Execution, SplitPolicy};
 use crate::input::{InputError, read_text};
 use crate::output::{WriteError, printable, write_atomically};
 use crate::scenario::Scenario;
-use crate::timeline::Timeline;
+use crate::simulation::Timeline;
 
 /// What `members/<index>/summary.ron` holds.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -109,9 +108,7 @@ fn simulate_member(folder: &EnsembleFolder, record: &Record, index: u64) -> Resu
     let start = Instant::now();
     let config = &record.config;
     let scenario = member_scenario(folder, record, index)?;
-    let execution = Execution::new(config.mode, config.threads)?
-        .with_split(SplitPolicy::Auto)
-        .with_auto_split(machine_auto_split());
+    let execution = config.member_execution().build(machine_auto_split())?;
     let mut sim = Simulation::from_scenario(&scenario, execution)?;
     let bodies_start = sim.body_count() as u64;
     let mut timeline = Timeline::new(config.every);

@@ -17,7 +17,7 @@
 //! numbers): combinations then differ by their settings, not by their
 //! draws.
 
-use crate::rng::Rng;
+use crate::maths::Rng;
 
 /// The seed of member `member` (its place within its combination) of the
 /// ensemble seeded `ensemble_seed`.

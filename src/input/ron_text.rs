@@ -6,7 +6,7 @@ use serde::de::DeserializeOwned;
 use super::InputError;
 
 /// Parses `text` as RON; `origin` names it in errors (usually its path).
-/// Value checks done while parsing (see `input/checked.rs`) come
+/// Value checks done while parsing (see `input/value_checks.rs`) come
 /// back with the line and column of the offending value.
 pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &str, extensions: Extensions) -> Result<T, InputError> {
     ron::Options::default()

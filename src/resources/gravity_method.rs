@@ -38,6 +38,15 @@ pub enum GravityMethod {
 }
 
 impl GravityMethod {
+    /// What `--gravity` says in `--help` (the one place it is written, with
+    /// [`AUTO_TREE_FROM`]'s value).
+    pub fn help() -> String {
+        format!(
+            "How gravity is summed: `auto` (`direct` below {AUTO_TREE_FROM} sources, else `tree`), `direct`, \
+             or `tree` / `tree:THETA` (Barnes–Hut) [default: the scenario's]"
+        )
+    }
+
     /// The method used with `sources` sources: `Auto` decided, the others
     /// as they are.
     pub fn resolve(self, sources: usize) -> Self {

@@ -3,7 +3,7 @@
 
 use bevy::prelude::*;
 
-use crate::memory_limit::{BYTES_PER_BODY, MemoryLimit};
+use crate::memory::{BYTES_PER_BODY, MemoryLimit};
 
 /// The memory limit a run is held to: the shatter stage stops the run
 /// before its bodies would outgrow it.
@@ -57,7 +57,7 @@ pub fn gigabytes(bytes: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::memory_limit::LimitKind;
+    use crate::memory::LimitKind;
 
     #[test]
     fn a_budget_beyond_the_limit_is_said_with_the_estimate() {

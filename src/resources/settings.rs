@@ -20,6 +20,8 @@ use super::{CollisionDetection, FragmentSizes, GravityMethod, Integrator};
 pub const MAX_BODIES: u64 = 20_000_000;
 /// Most fragments one shatter may create.
 pub const MAX_FRAGMENTS: u32 = 1000;
+/// Largest fragment spread, as a share of the impact speed.
+pub const MAX_FRAGMENT_SPREAD: f32 = 10.0;
 /// Largest gravitational constant.
 pub const MAX_GRAVITATIONAL_CONSTANT: f32 = 1e6;
 /// Largest time step.
@@ -95,7 +97,7 @@ macro_rules! physics_settings {
                 "Equal, or PowerLaw(exponent: α) with α finite, > 0 and at most 10", |v: FragmentSizes| v.is_valid(), Live;
             /// Fragments' speed away from their center of mass, as a share of the impact speed (the thesis's "Streuung").
             fragment_spread: f32 = 0.2,
-                "finite and between 0 and 10", |v| (0.0..=10.0).contains(&v), Live;
+                "finite and between 0 and 10", |v| (0.0..=MAX_FRAGMENT_SPREAD).contains(&v), Live;
             /// Edge length below which a collision bounces instead of making fragments; 0: no floor (the thesis).
             min_fragment_size: f32 = 1.0,
                 "finite and >= 0", |v| v >= 0.0, Live;

@@ -5,9 +5,9 @@
 
 use std::collections::HashMap;
 
-use super::checked::MAX_BODIES;
 use super::contents::Scenario;
 use super::events::{Event, Spawn};
+use super::field_checks::MAX_BODIES;
 use super::format::{Body, Generator};
 use super::load::shape_problem;
 use crate::input::InputError;

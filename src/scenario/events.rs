@@ -1,7 +1,7 @@
 //! Timed events in scenario files (docs/design.md, "Events"): bodies
 //! spawned, an impactor fired, a body broken up or removed, live settings
 //! changed, each after a given number of updates. This file is their
-//! format; `src/events/` applies them.
+//! format; `src/timed_events/` applies them.
 
 use std::fmt;
 
@@ -9,7 +9,7 @@ use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visit
 use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
-use super::checked;
+use super::field_checks;
 use super::format::{Body, Generator, Template, given};
 use crate::input::FieldName;
 use crate::resources::{Applies, FragmentSizes, SETTINGS, SimulationSettings, setting};
@@ -36,7 +36,7 @@ pub enum Event {
 #[serde(deny_unknown_fields)]
 pub struct Spawn {
     /// Updates run before it happens.
-    #[serde(deserialize_with = "checked::update")]
+    #[serde(deserialize_with = "field_checks::update")]
     pub update: u64,
     /// Explicit bodies (without `id`: they get fresh ones, in order).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -52,22 +52,22 @@ pub struct Spawn {
 #[serde(deny_unknown_fields)]
 pub struct Fire {
     /// Updates run before it happens.
-    #[serde(deserialize_with = "checked::update")]
+    #[serde(deserialize_with = "field_checks::update")]
     pub update: u64,
     /// The id of the body fired at.
-    #[serde(deserialize_with = "checked::target")]
+    #[serde(deserialize_with = "field_checks::target")]
     pub target: u64,
     /// The impactor's speed towards the target, relative to it.
-    #[serde(deserialize_with = "checked::speed")]
+    #[serde(deserialize_with = "field_checks::speed")]
     pub speed: f32,
     /// How far from the target's center the impactor starts.
-    #[serde(deserialize_with = "checked::distance")]
+    #[serde(deserialize_with = "field_checks::distance")]
     pub distance: f32,
     /// The direction, from the target, in which the impactor starts (any
     /// length but zero); default: a seeded random direction.
     #[serde(
         default,
-        deserialize_with = "checked::from",
+        deserialize_with = "field_checks::from",
         skip_serializing_if = "Option::is_none",
         serialize_with = "given"
     )]
@@ -82,21 +82,21 @@ pub struct Fire {
 #[serde(deny_unknown_fields)]
 pub struct Breakup {
     /// Updates run before it happens.
-    #[serde(deserialize_with = "checked::update")]
+    #[serde(deserialize_with = "field_checks::update")]
     pub update: u64,
     /// The id of the body that breaks up.
-    #[serde(deserialize_with = "checked::body")]
+    #[serde(deserialize_with = "field_checks::body")]
     pub body: u64,
     /// How many fragments (with `PowerLaw` sizes, the most).
-    #[serde(deserialize_with = "checked::fragments")]
+    #[serde(deserialize_with = "field_checks::fragments")]
     pub fragments: u32,
     /// About how fast the fragments fly apart.
-    #[serde(deserialize_with = "checked::speed")]
+    #[serde(deserialize_with = "field_checks::speed")]
     pub speed: f32,
     /// How the fragments are sized; default: the `fragment_sizes` in force.
     #[serde(
         default,
-        deserialize_with = "checked::sizes",
+        deserialize_with = "field_checks::sizes",
         skip_serializing_if = "Option::is_none",
         serialize_with = "given"
     )]
@@ -108,10 +108,10 @@ pub struct Breakup {
 #[serde(deny_unknown_fields)]
 pub struct Remove {
     /// Updates run before it happens.
-    #[serde(deserialize_with = "checked::update")]
+    #[serde(deserialize_with = "field_checks::update")]
     pub update: u64,
     /// The id of the body taken away.
-    #[serde(deserialize_with = "checked::body")]
+    #[serde(deserialize_with = "field_checks::body")]
     pub body: u64,
 }
 
@@ -262,7 +262,7 @@ struct Update;
 impl<'de> DeserializeSeed<'de> for Update {
     type Value = u64;
     fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<u64, D::Error> {
-        checked::update(d)
+        field_checks::update(d)
     }
 }
 

@@ -11,9 +11,9 @@ use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
-use super::checked;
 use super::contents::Scenario;
 use super::events::EventList;
+use super::field_checks;
 use crate::input::FieldName;
 use crate::resources::{SETTINGS, unknown_setting};
 
@@ -24,12 +24,12 @@ const OWN: [&str; 5] = ["name", "next_id", "bodies", "generators", "events"];
 /// A checked `name`.
 #[derive(Deserialize)]
 #[serde(transparent)]
-struct Name(#[serde(deserialize_with = "checked::name")] String);
+struct Name(#[serde(deserialize_with = "field_checks::name")] String);
 
 /// A checked `next_id`.
 #[derive(Deserialize)]
 #[serde(transparent)]
-struct NextId(#[serde(deserialize_with = "checked::next_id")] Option<u64>);
+struct NextId(#[serde(deserialize_with = "field_checks::next_id")] Option<u64>);
 
 impl<'de> Deserialize<'de> for Scenario {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {

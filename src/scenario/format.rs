@@ -5,7 +5,7 @@
 
 use serde::{Deserialize, Serialize, Serializer};
 
-use super::checked;
+use super::field_checks;
 use crate::components::{BodyState, GravityRole};
 
 /// One explicitly placed body.
@@ -15,13 +15,13 @@ pub struct Body {
     /// The body's id (snapshots); default: its place in the list.
     #[serde(
         default,
-        deserialize_with = "checked::id",
+        deserialize_with = "field_checks::id",
         skip_serializing_if = "Option::is_none",
         serialize_with = "given"
     )]
     pub id: Option<u64>,
     /// Center of the box; required.
-    #[serde(deserialize_with = "checked::position")]
+    #[serde(deserialize_with = "field_checks::position")]
     pub position: [f32; 3],
     /// Ignored, kept so that older files load: snapshots once wrote where
     /// the body was an update ago, but every update's drift sets that
@@ -29,19 +29,19 @@ pub struct Body {
     /// never written.
     #[serde(
         default,
-        deserialize_with = "checked::previous_position",
+        deserialize_with = "field_checks::previous_position",
         skip_serializing_if = "Option::is_none",
         serialize_with = "given"
     )]
     pub previous_position: Option<[f32; 3]>,
     /// Default (0, 0, 0).
-    #[serde(default, deserialize_with = "checked::velocity")]
+    #[serde(default, deserialize_with = "field_checks::velocity")]
     pub velocity: [f32; 3],
     /// A box's half extents; default (1, 1, 1): a unit cube, edge 2. Not
     /// with `shape: Sphere`, whose size is its radius.
     #[serde(
         default,
-        deserialize_with = "checked::optional_half_extents",
+        deserialize_with = "field_checks::optional_half_extents",
         skip_serializing_if = "Option::is_none",
         serialize_with = "given"
     )]
@@ -50,7 +50,7 @@ pub struct Body {
     #[serde(default, skip_serializing_if = "Shape::is_box")]
     pub shape: Shape,
     /// Default 1.
-    #[serde(default = "defaults::mass", deserialize_with = "checked::mass")]
+    #[serde(default = "defaults::mass", deserialize_with = "field_checks::mass")]
     pub mass: f32,
     /// Default `Adopter`.
     #[serde(default)]
@@ -79,7 +79,7 @@ pub enum Shape {
     /// A ball: planets and moons, which do not interact.
     Sphere {
         /// The ball's radius, finite and > 0.
-        #[serde(deserialize_with = "checked::radius")]
+        #[serde(deserialize_with = "field_checks::radius")]
         radius: f32,
     },
 }
@@ -197,16 +197,16 @@ impl Generator {
 #[serde(deny_unknown_fields)]
 pub struct Cloud {
     /// Bodies to make.
-    #[serde(deserialize_with = "checked::count")]
+    #[serde(deserialize_with = "field_checks::count")]
     pub count: u64,
     /// Center of the box that positions are drawn from.
-    #[serde(deserialize_with = "checked::center")]
+    #[serde(deserialize_with = "field_checks::center")]
     pub center: [f32; 3],
     /// Half the size of the box that positions are drawn from.
-    #[serde(deserialize_with = "checked::half_size")]
+    #[serde(deserialize_with = "field_checks::half_size")]
     pub half_size: [f32; 3],
     /// Velocity components are uniform in `[-max_speed, max_speed)`.
-    #[serde(default, deserialize_with = "checked::max_speed")]
+    #[serde(default, deserialize_with = "field_checks::max_speed")]
     pub max_speed: f32,
     /// What each generated body is made of (default: unit cube, mass 1, adopter).
     #[serde(default)]
@@ -218,26 +218,26 @@ pub struct Cloud {
 #[serde(deny_unknown_fields)]
 pub struct Shell {
     /// Bodies to make.
-    #[serde(deserialize_with = "checked::count")]
+    #[serde(deserialize_with = "field_checks::count")]
     pub count: u64,
     /// Index (in `bodies`) of the source to orbit.
-    #[serde(deserialize_with = "checked::around")]
+    #[serde(deserialize_with = "field_checks::around")]
     pub around: usize,
     /// Smallest orbit radius.
-    #[serde(deserialize_with = "checked::inner_radius")]
+    #[serde(deserialize_with = "field_checks::inner_radius")]
     pub inner_radius: f32,
     /// Largest orbit radius, at least `inner_radius`.
-    #[serde(deserialize_with = "checked::outer_radius")]
+    #[serde(deserialize_with = "field_checks::outer_radius")]
     pub outer_radius: f32,
     /// Largest tilt of an orbit plane from the source's equator (the x–z
     /// plane), in degrees; 90 gives orbits in every direction.
-    #[serde(default, deserialize_with = "checked::inclination")]
+    #[serde(default, deserialize_with = "field_checks::inclination")]
     pub inclination: f32,
     /// Relative spread of the orbital speed around circular speed (0.05: ±5 %).
-    #[serde(default, deserialize_with = "checked::speed_jitter")]
+    #[serde(default, deserialize_with = "field_checks::speed_jitter")]
     pub speed_jitter: f32,
     /// Share of bodies orbiting the other way round (head-on crossings).
-    #[serde(default, deserialize_with = "checked::retrograde_fraction")]
+    #[serde(default, deserialize_with = "field_checks::retrograde_fraction")]
     pub retrograde_fraction: f32,
     /// What each generated body is made of (default: unit cube, mass 1, adopter).
     #[serde(default)]
@@ -249,10 +249,10 @@ pub struct Shell {
 #[serde(deny_unknown_fields, default)]
 pub struct Template {
     /// As [`Body::half_extents`].
-    #[serde(default = "defaults::half_extents", deserialize_with = "checked::half_extents")]
+    #[serde(default = "defaults::half_extents", deserialize_with = "field_checks::half_extents")]
     pub half_extents: [f32; 3],
     /// As [`Body::mass`].
-    #[serde(default = "defaults::mass", deserialize_with = "checked::mass")]
+    #[serde(default = "defaults::mass", deserialize_with = "field_checks::mass")]
     pub mass: f32,
     /// As [`Body::role`].
     #[serde(default)]

@@ -5,7 +5,7 @@ use bevy::math::{DVec3, Vec3};
 use super::format::{Body, Cloud, Shape, Shell, Template};
 use crate::components::{BodyId, BodyState};
 use crate::maths;
-use crate::rng::Rng;
+use crate::maths::Rng;
 
 /// Draws tried per body before a cloud gives up on finding free space.
 const PLACEMENT_TRIES: u32 = 1000;

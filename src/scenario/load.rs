@@ -6,15 +6,15 @@ use std::path::Path;
 use bevy::math::DVec3;
 use ron::extensions::Extensions;
 
-use super::checked::{MAX_BODIES, MAX_ID};
 use super::contents::Scenario;
+use super::field_checks::{MAX_BODIES, MAX_ID};
 use super::format::{Body, Generator, Shape, Shell};
 use super::generators::{self, Obstacles};
-use super::start::check_start;
+use super::initial_state::check_start;
 use crate::components::BodyState;
 use crate::input::{InputError, parse_ron, read_text};
+use crate::maths::Rng;
 use crate::resources::SimulationSettings;
-use crate::rng::Rng;
 
 impl Scenario {
     /// Parses RON text; `origin` names it in errors (usually the path) and

@@ -2,22 +2,22 @@
 //! checks, the generators, the events, loading, and the built-in scenes.
 
 mod builtin;
-pub mod checked;
 mod contents;
 mod event_checks;
 pub mod events;
+pub mod field_checks;
 mod fields;
 mod format;
 pub mod generators;
+mod initial_state;
 mod load;
 mod scale;
 mod snapshot;
-mod start;
 
 pub use builtin::{DEFAULT_SCENARIO, DEFAULT_SCENARIO_NAME, THESIS_SCENARIO, THESIS_SCENARIO_NAME};
-pub use checked::{MAX_BODIES, MAX_FRAGMENTS};
 pub use contents::Scenario;
 pub use events::{Breakup, Event, Fire, Remove, Set, Spawn};
+pub use field_checks::{MAX_BODIES, MAX_FRAGMENTS};
 pub use format::{Body, Cloud, Generator, Shape, Shell, Template};
 pub use scale::CannotResize;
 pub use snapshot::{Snapshot, beyond_a_scenario, scenario_text, write_session, write_snapshot};

@@ -8,13 +8,13 @@ use std::io::{self, Write};
 
 use ron::ser::PrettyConfig;
 
-use super::checked::MAX_STATE;
 use super::contents::Scenario;
 use super::events::Event;
+use super::field_checks::MAX_STATE;
 use super::format::Body;
 use crate::components::BodyState;
+use crate::record::StateHash;
 use crate::resources::SimulationSettings;
-use crate::state_hash::StateHash;
 
 /// What a snapshot holds.
 #[derive(Clone, Copy, Debug)]

@@ -15,9 +15,8 @@ use super::plugins::SandboxPlugins;
 use super::session::{OffscreenTarget, SandboxState, Start, WindowError, WindowOptions};
 use super::sets::SandboxSystems;
 use super::tools::{ActionScript, DumpAtClose};
-use crate::events::EventsPlugin;
-use crate::execution::Execution;
 use crate::systems::SimulationPlugins;
+use crate::timed_events::EventsPlugin;
 
 /// Whether the simulation's idle workers poll for work for a moment after
 /// each parallel step in the window too (see `execution/keep_warm.rs`). They
@@ -34,10 +33,10 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         settings,
         scenario,
     } = Start::from_options(&options)?;
-    let execution = Execution::new(settings.mode, settings.threads)?
-        .with_keep_warm(KEEP_WORKERS_WARM)
-        .with_split(settings.split)
-        .with_auto_split(crate::calibration::machine_auto_split());
+    let execution = settings
+        .execution()
+        .build(crate::calibration::machine_auto_split())?
+        .with_keep_warm(KEEP_WORKERS_WARM);
     let present_mode = present_mode(settings.vsync);
     let mut state = SandboxState::new(scenario, &settings);
     state.paused = options.paused;

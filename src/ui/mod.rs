@@ -30,7 +30,7 @@ pub mod sets;
 pub mod tools;
 pub mod view;
 
-pub use crate::draw_method::DrawMethod;
+pub use crate::resources::DrawMethod;
 pub use app::run;
 pub use plugins::SandboxPlugins;
 pub use session::{WindowError, WindowOptions};

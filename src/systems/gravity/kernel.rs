@@ -206,7 +206,7 @@ pub fn group_pulls(lists: &GroupLists, members: &[GravitySource], softening2: f6
 mod tests {
     use super::*;
     use crate::components::BodyId;
-    use crate::rng::Rng;
+    use crate::maths::Rng;
     use crate::systems::gravity::columns::LeafSources;
     use crate::systems::gravity::source::add_pulls;
     use bevy::math::Vec3;

@@ -16,12 +16,12 @@
 //!
 //! The files form a ladder: each imports only files below it.
 //!
-//! - `stage.rs`: the plugin and its system, the pull (`Auto` decided), the
-//!   kick;
+//! - `mod.rs`: the plugin and its system;
+//! - `kick.rs`: the sources, the pull (`Auto` decided), the kick;
 //! - `walk.rs`: the region walks and the group walks of the tree;
 //! - `tree.rs`: the Barnes–Hut octree: the build, regions and groups, the
 //!   single-point walk;
-//! - `local.rs`: a region's local expansion of distant sources;
+//! - `local_expansion.rs`: a region's local expansion of distant sources;
 //! - `kernel.rs`: the near and far terms, the sums lane by lane, and
 //!   [`Kernel`], which one this processor runs: `avx512.rs`, `avx.rs` (both
 //!   x86-64 only) or lane by lane;
@@ -35,16 +35,116 @@ mod avx;
 mod avx512;
 mod columns;
 mod kernel;
-mod local;
+mod kick;
+mod local_expansion;
 mod source;
-mod stage;
 mod tree;
 mod walk;
 
 pub use kernel::Kernel;
-pub use source::{GravitySource, acceleration_at, add_pulls, pull_factor};
-pub use stage::{
-    GravityColumns, GravityInUse, GravityPlugin, Pull, PullScratch, SourceColumns, collect_sources, gravity_kernel,
-    half_drift, prepare_pull,
+pub use kick::{
+    GravityColumns, Pull, PullScratch, SourceColumns, collect_sources, gravity_kernel, half_drift, prepare_pull,
 };
+pub use source::{GravitySource, acceleration_at, add_pulls, pull_factor};
 pub use tree::{GROUP_SIZE, LEAF_SIZE, Octree, REGION_SIZE};
+
+use bevy::prelude::*;
+
+use crate::components::{BodyId, GravityRole, Mass, Position, PreviousPosition, Velocity};
+use crate::resources::{GravityMethod, SimulationSettings};
+use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
+
+/// Accelerates adopters towards the sources in [`SimulationSystems::Gravity`].
+pub struct GravityPlugin;
+
+impl Plugin for GravityPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<GravityInUse>().add_systems(
+            SimulationUpdate,
+            apply_gravity
+                .in_set(SimulationSystems::Gravity)
+                .run_if(|s: Res<SimulationSettings>| s.gravity),
+        );
+    }
+}
+
+/// How the last gravity stage summed, for the HUD; before the first, no
+/// sources summed directly.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct GravityInUse {
+    /// The method used: `Direct` or `Tree`, never `Auto`.
+    pub method: GravityMethod,
+    /// Whether `Auto` chose it.
+    pub auto: bool,
+    /// Sources summed.
+    pub sources: usize,
+}
+
+impl Default for GravityInUse {
+    fn default() -> Self {
+        Self {
+            method: GravityMethod::Direct,
+            auto: false,
+            sources: 0,
+        }
+    }
+}
+
+/// What the gravity stage keeps between updates: the sources and what its
+/// pull is made in.
+#[derive(Default)]
+struct GravityScratch {
+    sources: Vec<GravitySource>,
+    pull: PullScratch,
+}
+
+fn apply_gravity(
+    settings: Res<SimulationSettings>,
+    mut stage: Stage,
+    mut in_use: ResMut<GravityInUse>,
+    mut scratch: Local<GravityScratch>,
+    mut bodies: Query<(
+        &BodyId,
+        &GravityRole,
+        &Mass,
+        &mut Position,
+        &mut PreviousPosition,
+        &mut Velocity,
+    )>,
+) {
+    let clock = stage.start(SimulationSystems::Gravity);
+    let (integrator, dt) = (settings.integrator, settings.time_step);
+    let tables = bodies.contiguous_iter().expect("body components are table-stored");
+    let GravityScratch { sources, pull } = &mut *scratch;
+    let all = tables.map(|(ids, roles, masses, positions, _, velocities)| (ids, positions, velocities, masses, roles));
+    collect_sources(all, f64::from(settings.gravitational_constant), integrator, dt, sources);
+    let softening = f64::from(settings.softening);
+    let softening2 = softening * softening;
+    let (pull, stage) = prepare_pull(
+        settings.gravity_method,
+        sources,
+        bodies.iter().len(),
+        softening2,
+        clock.executor(),
+        pull,
+    );
+    in_use.set_if_neq(GravityInUse {
+        method: pull.method(),
+        auto: settings.gravity_method == GravityMethod::Auto,
+        sources: sources.len(),
+    });
+    let tables = bodies.contiguous_iter_mut().expect("body components are table-stored");
+    for (ids, roles, _, mut positions, mut previous, mut velocities) in tables {
+        let columns = (
+            ids,
+            roles,
+            positions.bypass_change_detection(),
+            previous.bypass_change_detection(),
+            velocities.bypass_change_detection(),
+        );
+        stage.for_chunks(columns, |columns| {
+            gravity_kernel(columns, pull, softening2, dt, integrator);
+        });
+    }
+    clock.finish();
+}

@@ -715,7 +715,7 @@ impl Octree {
 pub(super) mod tests {
     use super::*;
     use crate::maths;
-    use crate::rng::Rng;
+    use crate::maths::Rng;
     use crate::systems::gravity::source::acceleration_at;
 
     /// `count` sources of `G·m` = `gm` uniform in the cube of half edge

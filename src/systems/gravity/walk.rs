@@ -25,7 +25,7 @@ use bevy::math::{DVec3, Vec3};
 
 use super::columns::GroupLists;
 use super::kernel::group_pulls;
-use super::local::{Local, LocalExpansion, LocalSources};
+use super::local_expansion::{Local, LocalExpansion, LocalSources};
 use super::tree::{Octree, Step, bounds};
 
 /// Room a near list starts with (in a uniform cloud of 100 000 a region's
@@ -242,7 +242,7 @@ mod tests {
     use super::*;
     use crate::components::BodyId;
     use crate::maths;
-    use crate::rng::Rng;
+    use crate::maths::Rng;
     use crate::systems::gravity::source::{GravitySource, acceleration_at};
     use crate::systems::gravity::tree::tests::{cluster, uniform};
 

@@ -368,7 +368,7 @@ mod tests {
 
     #[test]
     fn pushed_back_boxes_touch_without_overlap_on_random_contacts() {
-        let mut rng = crate::rng::Rng::new(11);
+        let mut rng = crate::maths::Rng::new(11);
         let mut r = |lo: f64, hi: f64| rng.range(lo, hi) as f32;
         for _ in 0..1000 {
             let (ha, hb) = (
@@ -500,7 +500,7 @@ mod tests {
 
     #[test]
     fn a_box_hitting_a_ball_touches_it_after_with_its_normal_velocity_reflected() {
-        let mut rng = crate::rng::Rng::new(5);
+        let mut rng = crate::maths::Rng::new(5);
         for _ in 0..1000 {
             let direction = Vec3::new(
                 rng.symmetric(1.0) as f32,

@@ -5,7 +5,7 @@ use bevy::light::GlobalAmbientLight;
 use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::prelude::*;
 
-use crate::rng::Rng;
+use crate::maths::Rng;
 
 /// Distance of the stars from the origin, world units.
 pub const STAR_DISTANCE: f32 = 200_000.0;

@@ -19,7 +19,7 @@ use super::body_colors::{LookTracker, body_color, is_celestial};
 use super::instance_slot::{InstanceData, InstancedBodies};
 use super::instanced_draw::InstancedDrawPlugin;
 use crate::components::{BodyId, GravityRole, HalfExtents, Immovable, Position, Velocity};
-use crate::draw_method::DrawMethod;
+use crate::resources::DrawMethod;
 use crate::systems::OverlappingPairs;
 use crate::ui::session::SandboxSettings;
 use crate::ui::session::SandboxState;

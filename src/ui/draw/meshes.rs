@@ -11,7 +11,7 @@ use bevy::transform::TransformSystems;
 
 use super::body_colors::{LookTracker, PLAIN, body_color, is_celestial};
 use crate::components::{BodyId, GravityRole, HalfExtents, Immovable, Position, Velocity};
-use crate::draw_method::DrawMethod;
+use crate::resources::DrawMethod;
 use crate::systems::OverlappingPairs;
 use crate::ui::session::SandboxSettings;
 use crate::ui::session::SandboxState;

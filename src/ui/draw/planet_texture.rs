@@ -10,7 +10,7 @@
 use bevy::math::Vec3;
 use rayon::prelude::*;
 
-use crate::rng::Rng;
+use crate::maths::Rng;
 
 /// Share of the Earth's surface that is land.
 pub const LAND_SHARE: f32 = 0.3;

@@ -7,7 +7,8 @@ use bevy::prelude::*;
 use bevy_egui::egui;
 
 use crate::components::{Mass, Velocity};
-use crate::systems::{Absorbed, CollisionStats, Totals};
+use crate::physics::Totals;
+use crate::systems::{Absorbed, CollisionStats};
 use crate::ui::session::SandboxState;
 use crate::ui::session::UpdateClock;
 use crate::ui::sets::SandboxSystems;

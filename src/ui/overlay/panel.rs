@@ -9,16 +9,16 @@ use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use super::cascade::{Cascade, totals_readout};
 use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
-use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, WorkerPool};
+use crate::maths::Rng;
+use crate::resources::DrawMethod;
 use crate::resources::{AUTO_TREE_FROM, CollisionDetection, DEFAULT_THETA, FragmentSizes, GravityMethod, Integrator};
-use crate::rng::Rng;
 use crate::systems::SimulationFault;
 use crate::ui::session::SandboxState;
 use crate::ui::session::SnapshotSave;
 use crate::ui::session::{
-    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE, SPEED_RANGE,
-    SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,
+    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE,
+    SHATTER_FRAGMENTS_RANGE, SPEED_RANGE, SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,
 };
 use crate::ui::sets::SandboxSystems;
 use crate::ui::tools::{CHECKPOINT_EVERY, Checkpoints, ToolAction, ToolSettings};
@@ -218,34 +218,7 @@ fn split_policy(ui: &mut egui::Ui, split: &mut SplitPolicy) {
 fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     ui.label("Stages");
     ui.checkbox(&mut settings.gravity, "gravity");
-    ui.horizontal(|ui| {
-        let method = settings.gravity_method;
-        if ui
-            .radio(method == GravityMethod::Auto, "auto")
-            .on_hover_text(format!(
-                "the direct sum below {AUTO_TREE_FROM} sources, else the tree at θ {DEFAULT_THETA}"
-            ))
-            .clicked()
-        {
-            settings.gravity_method = GravityMethod::Auto;
-        }
-        if ui.radio(method == GravityMethod::Direct, "direct sum").clicked() {
-            settings.gravity_method = GravityMethod::Direct;
-        }
-        let tree = matches!(method, GravityMethod::Tree { .. });
-        if ui
-            .radio(tree, "tree")
-            .on_hover_text("Barnes–Hut: for thousands of sources")
-            .clicked()
-            && !tree
-        {
-            settings.gravity_method = GravityMethod::Tree { theta: DEFAULT_THETA };
-        }
-        if let GravityMethod::Tree { theta } = &mut settings.gravity_method {
-            ui.add(slider(theta, 0.0..=1.5).text("θ"))
-                .on_hover_text("opening angle: 0 is the direct sum; 0.5 errs about 0.1 %");
-        }
-    });
+    gravity_method(ui, settings);
     ui.horizontal(|ui| {
         ui.label("integrator");
         ui.radio_value(&mut settings.integrator, Integrator::Leapfrog, "leapfrog")
@@ -275,6 +248,62 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         egui::Checkbox::new(&mut settings.collision_response, "collision response (bounce, shatter)"),
     );
     ui.add(slider(&mut settings.shatter_fragments, 2..=20).text("shatter fragments"));
+    fragment_sizes(ui, settings);
+    ui.add(
+        slider(&mut settings.shatter_threshold, 0.0..=50.0)
+            .logarithmic(true)
+            .text("impact threshold"),
+    );
+    ui.add(
+        slider(&mut settings.min_fragment_size, MIN_FRAGMENT_SIZE_RANGE)
+            .logarithmic(true)
+            .text("smallest fragment"),
+    )
+    .on_hover_text("edge length: a collision whose fragments would be smaller bounces (0: no floor, the thesis)");
+    ui.add(
+        slider(&mut settings.max_bodies, MAX_BODIES_RANGE)
+            .logarithmic(true)
+            .text("body budget"),
+    )
+    .on_hover_text("a shatter that would make more bodies bounces");
+    ui.add(slider(&mut settings.fragment_spread, FRAGMENT_SPREAD_RANGE).text("fragment spread"))
+        .on_hover_text("the fragments' speed apart, as a share of the impact speed (the thesis's \"Streuung\")");
+}
+
+/// How gravity is summed: auto, direct, or the tree and its θ.
+fn gravity_method(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
+    ui.horizontal(|ui| {
+        let method = settings.gravity_method;
+        if ui
+            .radio(method == GravityMethod::Auto, "auto")
+            .on_hover_text(format!(
+                "the direct sum below {AUTO_TREE_FROM} sources, else the tree at θ {DEFAULT_THETA}"
+            ))
+            .clicked()
+        {
+            settings.gravity_method = GravityMethod::Auto;
+        }
+        if ui.radio(method == GravityMethod::Direct, "direct sum").clicked() {
+            settings.gravity_method = GravityMethod::Direct;
+        }
+        let tree = matches!(method, GravityMethod::Tree { .. });
+        if ui
+            .radio(tree, "tree")
+            .on_hover_text("Barnes–Hut: for thousands of sources")
+            .clicked()
+            && !tree
+        {
+            settings.gravity_method = GravityMethod::Tree { theta: DEFAULT_THETA };
+        }
+        if let GravityMethod::Tree { theta } = &mut settings.gravity_method {
+            ui.add(slider(theta, 0.0..=1.5).text("θ"))
+                .on_hover_text("opening angle: 0 is the direct sum; 0.5 errs about 0.1 %");
+        }
+    });
+}
+
+/// How a shatter sizes its fragments: equal, or the power law and its α.
+fn fragment_sizes(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
     ui.horizontal(|ui| {
         ui.label("sizes");
         let sizes = settings.fragment_sizes;
@@ -299,25 +328,6 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
                 .on_hover_text("1.71 for collisions, 1.6 for explosions");
         }
     });
-    ui.add(
-        slider(&mut settings.shatter_threshold, 0.0..=50.0)
-            .logarithmic(true)
-            .text("impact threshold"),
-    );
-    ui.add(
-        slider(&mut settings.min_fragment_size, MIN_FRAGMENT_SIZE_RANGE)
-            .logarithmic(true)
-            .text("smallest fragment"),
-    )
-    .on_hover_text("edge length: a collision whose fragments would be smaller bounces (0: no floor, the thesis)");
-    ui.add(
-        slider(&mut settings.max_bodies, MAX_BODIES_RANGE)
-            .logarithmic(true)
-            .text("body budget"),
-    )
-    .on_hover_text("a shatter that would make more bodies bounces");
-    ui.add(slider(&mut settings.fragment_spread, FRAGMENT_SPREAD_RANGE).text("fragment spread"))
-        .on_hover_text("the fragments' speed apart, as a share of the impact speed (the thesis's \"Streuung\")");
 }
 
 fn scene(
@@ -424,6 +434,14 @@ fn tools_section(
 ) -> Vec<ToolAction> {
     let mut sent = Vec::new();
     ui.label("Tools (each recorded as an event)");
+    launch_tools(ui, tools, &mut sent);
+    body_tools(ui, tools, has_selection, &mut sent);
+    rewind_tool(ui, checkpoints, updates, &mut sent);
+    sent
+}
+
+/// Launch: the ring and the satellites' size and mass.
+fn launch_tools(ui: &mut egui::Ui, tools: &mut ToolSettings, sent: &mut Vec<ToolAction>) {
     ui.horizontal(|ui| {
         if ui
             .button("🚀 Launch")
@@ -450,6 +468,10 @@ fn tools_section(
         );
     });
     ui.add(slider(&mut tools.mass, 0.01..=1000.0).logarithmic(true).text("mass"));
+}
+
+/// Fire, break up and remove: the tools that act on the selected body.
+fn body_tools(ui: &mut egui::Ui, tools: &mut ToolSettings, has_selection: bool, sent: &mut Vec<ToolAction>) {
     ui.horizontal(|ui| {
         if ui
             .add_enabled(has_selection, egui::Button::new("🎯 Fire at selected"))
@@ -487,7 +509,7 @@ fn tools_section(
         }
     });
     ui.add(
-        slider(&mut tools.fragments, 2..=1000)
+        slider(&mut tools.fragments, SHATTER_FRAGMENTS_RANGE)
             .logarithmic(true)
             .text("fragments"),
     );
@@ -496,6 +518,10 @@ fn tools_section(
             .logarithmic(true)
             .text("speed apart"),
     );
+}
+
+/// Rewind to the last checkpoint.
+fn rewind_tool(ui: &mut egui::Ui, checkpoints: &Checkpoints, updates: u64, sent: &mut Vec<ToolAction>) {
     ui.horizontal(|ui| {
         let target = checkpoints.target(updates);
         let hover = match target {
@@ -514,7 +540,6 @@ fn tools_section(
             checkpoints.len()
         ));
     });
-    sent
 }
 
 /// The scenario: one of `scenarios/`, the built-in one, or any path.

@@ -10,11 +10,11 @@ use bevy::prelude::*;
 use super::sandbox_settings::SandboxSettings;
 use super::scene::SandboxState;
 use super::update_clock::{UpdateClock, updates_within_budget};
-use crate::events::record_event;
 use crate::execution::Execution;
 use crate::resources::SimulationSettings;
 use crate::scenario::{Event, Set};
 use crate::systems::{SimulationFault, StageTimings, run_updates};
+use crate::timed_events::record_event;
 use crate::ui::sets::SandboxSystems;
 
 /// Longest a frame spends simulating before it drops the updates it still
@@ -89,25 +89,26 @@ fn show_set_events(physics: Res<SimulationSettings>, mut settings: ResMut<Sandbo
 }
 
 /// Runs the updates this frame owes, within [`SIMULATION_BUDGET`]; the
-/// rest are dropped and counted. A new scene starts owing nothing.
+/// rest are dropped and counted. The clock is set from the panel first
+/// (rate, speed, pause, a step); a new scene starts owing no fraction.
 fn drive_simulation(world: &mut World, mut scene: Local<u64>) {
-    let elapsed = world.resource::<Time<Real>>().delta_secs_f64();
+    let real = *world.resource::<Time<Real>>();
     let settings = world.resource::<SandboxSettings>();
-    let rate = f64::from(settings.updates_per_second) * f64::from(settings.speed);
+    let (updates_per_second, speed) = (settings.updates_per_second, settings.speed);
     let mut state = world.resource_mut::<SandboxState>();
     let paused = state.paused;
-    let step = std::mem::take(&mut state.step_requested);
+    let step = std::mem::take(&mut state.step_requested) && paused;
     let rebuilt = std::mem::replace(&mut *scene, state.generation) != state.generation;
     let mut clock = world.resource_mut::<UpdateClock>();
+    clock.set_rate(updates_per_second, speed);
+    clock.set_paused(paused);
     if rebuilt {
-        clock.reset_owed();
+        clock.forget_fraction();
     }
-    let owed = if paused {
-        clock.reset_owed();
-        u32::from(step)
-    } else {
-        clock.owed(elapsed, rate)
-    };
+    if step {
+        clock.step();
+    }
+    let owed = clock.owed(&real);
     let last_cost = Duration::from_nanos(world.resource::<StageTimings>().update.last_ns);
     let planned = updates_within_budget(owed, last_cost, SIMULATION_BUDGET);
     let start = Instant::now();
@@ -116,7 +117,9 @@ fn drive_simulation(world: &mut World, mut scene: Local<u64>) {
         run_updates(world, 1);
         ran += 1;
     }
-    world.resource_mut::<UpdateClock>().record(elapsed, owed, ran);
+    world
+        .resource_mut::<UpdateClock>()
+        .record(real.delta_secs_f64(), owed, ran);
     // A run that stopped pauses, with the reason where errors show.
     if let Some(message) = world.resource::<SimulationFault>().message() {
         let message = format!("{message}: restart the scene");
@@ -131,12 +134,47 @@ fn drive_simulation(world: &mut World, mut scene: Local<u64>) {
 
 #[cfg(test)]
 mod tests {
+    use bevy::time::TimeUpdateStrategy;
+
     use super::*;
     use crate::components::{BodyId, BodyState, GravityRole};
     use crate::execution::ExecutionMode;
     use crate::scenario::Scenario;
     use crate::simulation::spawn_bodies;
-    use crate::systems::SimulationPlugins;
+    use crate::systems::{SimulationPlugins, SimulationUpdate};
+
+    /// A frame runs the updates that fit in its budget and drops the rest,
+    /// counted; none are carried over to the next frame.
+    #[test]
+    fn a_frame_drops_the_updates_that_do_not_fit_its_budget() {
+        let mut app = App::new();
+        let settings = SandboxSettings {
+            updates_per_second: 600,
+            ..SandboxSettings::default()
+        };
+        // Frames of 250 ms at 600 UPS owe 150 updates each, 1 ms apiece:
+        // 150 ms, three times the budget.
+        let frame = Duration::from_millis(250);
+        let slow_update = || std::thread::sleep(Duration::from_millis(1));
+        app.add_plugins((MinimalPlugins, SimulationPlugins))
+            .insert_resource(Execution::new(ExecutionMode::Sequential, 1).unwrap())
+            .insert_resource(SandboxState::new(Scenario::builtin_default(), &settings))
+            .insert_resource(settings)
+            .insert_resource(TimeUpdateStrategy::ManualDuration(frame))
+            .init_resource::<UpdateClock>()
+            .add_systems(SimulationUpdate, slow_update)
+            .add_systems(Update, drive_simulation);
+        // The first frame only starts the real clock.
+        for _ in 0..3 {
+            app.update();
+        }
+        let world = app.world();
+        let clock = world.resource::<UpdateClock>();
+        let (ran, dropped) = (clock.updates_total, clock.dropped_total);
+        assert_eq!(ran + dropped, 300, "{ran} ran, {dropped} dropped");
+        assert!((2..=2 * 51).contains(&ran), "{ran} ran in two frames of a 50 ms budget");
+        assert_eq!(world.resource::<SimulationFault>().updates, ran);
+    }
 
     /// A run that stops at a fault pauses with the message where the panel
     /// shows errors, and says it once.
@@ -200,14 +238,14 @@ mod tests {
         .unwrap();
         let settings = SandboxSettings::default();
         let mut app = App::new();
-        app.add_plugins((MinimalPlugins, SimulationPlugins, crate::events::EventsPlugin))
+        app.add_plugins((MinimalPlugins, SimulationPlugins, crate::timed_events::EventsPlugin))
             .insert_resource(Execution::new(ExecutionMode::Sequential, 1).unwrap())
             .insert_resource(scenario.settings())
             .insert_resource(SandboxState::new(scenario.clone(), &settings))
             .insert_resource(settings)
             .add_plugins(DrivePlugin);
         spawn_bodies(app.world_mut(), &scenario.bodies().unwrap());
-        crate::events::install_events(app.world_mut(), &scenario);
+        crate::timed_events::install_events(app.world_mut(), &scenario);
         app.world_mut().resource_mut::<SandboxState>().paused = true;
         for _ in 0..2 {
             app.world_mut().resource_mut::<SandboxState>().step_requested = true;
@@ -218,7 +256,7 @@ mod tests {
         let world = app.world();
         assert_eq!(world.resource::<SimulationSettings>().shatter_threshold, 7.5);
         let recorded: Vec<_> = world
-            .resource::<crate::events::EventQueue>()
+            .resource::<crate::timed_events::EventQueue>()
             .all()
             .filter(|q| q.place.is_none())
             .map(|q| q.event.clone())
@@ -236,7 +274,7 @@ mod tests {
         assert_eq!(world.resource::<SimulationSettings>().fragment_spread, 0.5);
         assert_eq!(world.resource::<SandboxSettings>().fragment_spread, 0.5);
         assert_eq!(
-            world.resource::<crate::events::EventQueue>().all().count(),
+            world.resource::<crate::timed_events::EventQueue>().all().count(),
             2,
             "nothing taken back"
         );

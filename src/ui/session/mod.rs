@@ -18,8 +18,8 @@ mod window_options;
 pub use drive::DrivePlugin;
 pub use offscreen::{OFFSCREEN_SIZE, OffscreenTarget, frame_path};
 pub use sandbox_settings::{
-    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE, SPEED_RANGE,
-    SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,
+    CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE,
+    SHATTER_FRAGMENTS_RANGE, SPEED_RANGE, SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,
 };
 pub use scene::{SandboxState, ScenePlugin};
 pub use settings_file::{SettingsFile, SettingsFilePlugin};

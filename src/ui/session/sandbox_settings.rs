@@ -6,11 +6,12 @@ use std::path::PathBuf;
 use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::draw_method::DrawMethod;
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool, available_threads};
+use crate::input::ExecutionOptions;
+use crate::resources::DrawMethod;
 use crate::resources::{
-    Applies, CollisionDetection, FragmentSizes, GravityMethod, Integrator, MAX_BODIES, MAX_FRAGMENTS, SETTINGS,
-    SimulationSettings, check,
+    Applies, CollisionDetection, FragmentSizes, GravityMethod, Integrator, MAX_BODIES, MAX_FRAGMENT_SPREAD,
+    MAX_FRAGMENTS, SETTINGS, SimulationSettings, check,
 };
 
 /// Slowest and fastest target update rate, updates per second.
@@ -19,7 +20,7 @@ pub const UPS_RANGE: std::ops::RangeInclusive<u32> = 1..=600;
 pub const SPEED_RANGE: std::ops::RangeInclusive<f32> = 0.05..=8.0;
 /// Smallest and largest fragment spread the panel's slider offers (a
 /// share of the impact speed).
-pub const FRAGMENT_SPREAD_RANGE: std::ops::RangeInclusive<f32> = 0.0..=10.0;
+pub const FRAGMENT_SPREAD_RANGE: std::ops::RangeInclusive<f32> = 0.0..=MAX_FRAGMENT_SPREAD;
 /// Most bodies the panel offers: as many as `--bodies` accepts.
 pub const MAX_BODY_COUNT: u64 = crate::input::MAX_RUN_BODIES;
 /// Smallest and largest size floor the panel's slider offers, edge lengths
@@ -186,6 +187,26 @@ pub struct SandboxSettings {
     pub trails: TrailChoice,
     /// How many bodies [`Self::trails`] picks, in [`TRAIL_COUNT_RANGE`] (live).
     pub trail_count: u32,
+}
+
+impl SandboxSettings {
+    /// How the simulation executes, every option given.
+    pub fn execution(&self) -> ExecutionOptions {
+        ExecutionOptions {
+            mode: Some(self.mode),
+            threads: Some(self.threads),
+            split: Some(self.split),
+            pool: Some(self.pool),
+        }
+    }
+
+    /// Takes each option `options` gives.
+    pub fn set_execution(&mut self, options: ExecutionOptions) {
+        self.mode = options.mode.unwrap_or(self.mode);
+        self.threads = options.threads.unwrap_or(self.threads);
+        self.split = options.split.unwrap_or(self.split);
+        self.pool = options.pool.unwrap_or(self.pool);
+    }
 }
 
 impl Default for SandboxSettings {

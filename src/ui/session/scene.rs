@@ -7,12 +7,12 @@ use bevy::prelude::*;
 
 use super::sandbox_settings::SandboxSettings;
 use crate::components::{BodyId, BodyState};
-use crate::events::install_events;
 use crate::input::InputError;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{CannotResize, Scenario};
 use crate::simulation::spawn_bodies;
 use crate::systems::{Absorbed, CollisionStats, GravityInUse, OverlappingPairs, SimulationFault, StageTimings};
+use crate::timed_events::install_events;
 use crate::ui::sets::SandboxSystems;
 
 /// State of the sandbox beyond its settings.
@@ -258,7 +258,7 @@ mod tests {
         app.add_plugins((
             MinimalPlugins,
             crate::systems::SimulationPlugins,
-            crate::events::EventsPlugin,
+            crate::timed_events::EventsPlugin,
         ))
         .insert_resource(crate::execution::Execution::new(settings.mode, 1).unwrap());
         let state = SandboxState::new(Scenario::builtin_default(), &settings);

@@ -52,7 +52,7 @@ impl Plugin for SettingsFilePlugin {
     }
 }
 
-pub use crate::user_files::default_settings_path;
+pub use crate::input::default_settings_path;
 
 /// Reads the settings at `path`: the settings to use, the settings as the
 /// file holds them, and a warning. Never fails: a missing file gives
@@ -206,8 +206,8 @@ fn save_settings_on_exit(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::draw_method::DrawMethod;
     use crate::execution::{ExecutionMode, SplitPolicy};
+    use crate::resources::DrawMethod;
     use crate::ui::session::sandbox_settings::CameraMode;
 
     #[cfg(unix)]

@@ -13,11 +13,11 @@ use bevy::prelude::*;
 
 use super::scene::SandboxState;
 use crate::components::{BodyState, BodyStateQuery};
-use crate::events::EventQueue;
 use crate::output::{check_new, write_atomically};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{Snapshot, write_session, write_snapshot};
 use crate::systems::SimulationFault;
+use crate::timed_events::EventQueue;
 use crate::ui::sets::SandboxSystems;
 
 /// A save the panel asked for, and how the last one went.

@@ -6,9 +6,9 @@ use std::path::Path;
 use super::sandbox_settings::SandboxSettings;
 use super::settings_file::{SettingsFile, default_settings_path};
 use super::window_options::{WindowError, WindowOptions};
+use crate::input::default_calibration_path;
 use crate::output::{Output, check_extension, check_not_inputs, check_outputs};
 use crate::scenario::Scenario;
-use crate::user_files::default_calibration_path;
 
 /// What the window starts with.
 pub struct Start {
@@ -67,12 +67,7 @@ impl Start {
         if let Some(vsync) = options.vsync {
             settings.vsync = vsync;
         }
-        if let Some(mode) = options.mode {
-            settings.mode = mode;
-        }
-        if let Some(split) = options.split {
-            settings.split = split;
-        }
+        settings.set_execution(options.execution.or(settings.execution()));
         if let Some(ups) = options.ups {
             settings.updates_per_second = ups;
         }
@@ -160,8 +155,9 @@ pub fn no_display() -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::draw_method::DrawMethod;
     use crate::execution::ExecutionMode;
+    use crate::input::ExecutionOptions;
+    use crate::resources::DrawMethod;
 
     #[test]
     fn no_output_of_the_window_is_a_file_it_reads() {
@@ -210,7 +206,10 @@ mod tests {
             bodies: Some(200),
             render: Some(DrawMethod::MeshPerBody),
             vsync: Some(false),
-            mode: Some(ExecutionMode::Sequential),
+            execution: ExecutionOptions {
+                mode: Some(ExecutionMode::Sequential),
+                ..ExecutionOptions::default()
+            },
             ups: Some(30),
             ..WindowOptions::default()
         };

@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
-use crate::draw_method::DrawMethod;
-use crate::execution::{ExecutionError, ExecutionMode, SplitPolicy};
-use crate::input::InputError;
+use crate::execution::ExecutionError;
+use crate::input::{ExecutionOptions, InputError};
 use crate::output::OutputError;
+use crate::resources::DrawMethod;
 use crate::scenario::CannotResize;
 
 /// How the window runs; everything is optional.
@@ -28,10 +28,9 @@ pub struct WindowOptions {
     pub paused: bool,
     /// Vsync on or off for this run (not saved).
     pub vsync: Option<bool>,
-    /// Execution mode for this run (not saved).
-    pub mode: Option<ExecutionMode>,
-    /// Split policy for this run (not saved).
-    pub split: Option<SplitPolicy>,
+    /// How the simulation executes in this run, each option given over
+    /// the saved one (not saved).
+    pub execution: ExecutionOptions,
     /// Target updates per second for this run (not saved).
     pub ups: Option<u32>,
     /// Where a scripted run writes what it measured (`key=value` lines, a

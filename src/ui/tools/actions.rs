@@ -13,11 +13,11 @@ use serde::Deserialize;
 
 use super::rewind::rewind;
 use crate::components::{BodyId, BodyState, BodyStateQuery, GravityRole, Mass};
-use crate::events::{EventLog, record_event};
 use crate::maths;
 use crate::resources::SimulationSettings;
 use crate::scenario::{Body, Breakup, Event, Fire, Remove, Shape, Spawn, Template};
 use crate::systems::SimulationFault;
+use crate::timed_events::{EventLog, record_event};
 use crate::ui::session::{SandboxState, SnapshotSave};
 use crate::ui::view::{MainCamera, Selection};
 

@@ -10,9 +10,9 @@ use std::collections::VecDeque;
 use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, BodyStateQuery, spawn_states};
-use crate::events::{EventLog, EventQueue};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::systems::{Absorbed, CollisionStats, NextEventAt, OverlappingPairs, SimulationFault};
+use crate::timed_events::{EventLog, EventQueue};
 use crate::ui::session::{SandboxSettings, SandboxState};
 
 /// Updates between two checkpoints: 10 s at the default 60 updates a
@@ -162,11 +162,11 @@ pub fn rewind(world: &mut World) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::events::{EventsPlugin, install_events, record_event};
     use crate::execution::{Execution, ExecutionMode};
     use crate::scenario::{Event, Remove, Scenario};
     use crate::simulation::spawn_bodies;
     use crate::systems::{SimulationPlugins, run_updates};
+    use crate::timed_events::{EventsPlugin, install_events, record_event};
 
     /// A window's world without the window: the simulation, the events,
     /// what the rewind touches; `scenario` built.

@@ -12,8 +12,8 @@ use super::actions::ToolAction;
 use crate::components::{BodyState, BodyStateQuery};
 use crate::input::{InputError, load_ron};
 use crate::output::write_atomically;
+use crate::record::StateHash;
 use crate::resources::NextBodyId;
-use crate::state_hash::StateHash;
 use crate::systems::SimulationFault;
 use crate::ui::measure::FrameStats;
 
@@ -72,7 +72,7 @@ pub fn dump_at_close(
     let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
     states.sort_unstable_by_key(|b| b.id);
     let hash = StateHash::of_slice(&states, next_id.0);
-    match write_atomically(&dump.0, |w| crate::dump::write_csv(&states, hash, w)) {
+    match write_atomically(&dump.0, |w| crate::record::write_csv(&states, hash, w)) {
         Ok(()) => println!(
             "kessler: closed after {} updates of the scene; state hash {hash}; state written to {}",
             fault.updates,

@@ -1,0 +1,19 @@
+//! What every stage runs in: the stage list ([`STAGES`]: order, names,
+//! colors, CSV columns), the [`SimulationUpdate`] schedule chained from it,
+//! the [`Stage`] parameter each stage times itself with and gets its
+//! execution from, the timings, and the run's [`SimulationFault`] with the
+//! limits that raise it.
+
+mod fault;
+mod pair_limit;
+mod schedule;
+mod stage_clock;
+mod stages;
+mod timings;
+
+pub use fault::{Fault, SimulationFault, first_non_finite, no_fault};
+pub use pair_limit::{MIN_PAIR_LIMIT, PAIRS_PER_BOX, TooManyPairs, pair_limit};
+pub use schedule::{BetweenUpdates, NextEventAt, SchedulePlugin, SimulationUpdate, run_due_events, run_updates};
+pub use stage_clock::{Stage, StageClock};
+pub use stages::{STAGE_COUNT, STAGES, SimulationSystems, StageInfo};
+pub use timings::{StageTimings, Timing};

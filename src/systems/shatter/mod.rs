@@ -1,0 +1,104 @@
+//! The shatter stage ([`ShatterPlugin`]): pairs marked by the response are
+//! removed and replaced by fragments (`physics::fragments`; docs/design.md,
+//! "Shatter"), and the bodies an absorber took are removed. Fragments get
+//! fresh ids in pair order, so the result does not depend on how the
+//! response was executed.
+
+use bevy::prelude::*;
+
+use crate::components::{BodyId, BodyState};
+use crate::physics::{fragments_for, move_on};
+use crate::resources::{MemoryBudget, NextBodyId, SimulationSettings};
+use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
+
+/// Two bodies to shatter, in pair order, for the shatter stage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShatterPair {
+    /// The two bodies' entities, to despawn.
+    pub entities: [Entity; 2],
+    /// Their state at the impact (with swept detection, where they met).
+    pub bodies: [BodyState; 2],
+    /// The time left in the update after the impact, for which the
+    /// fragments move on from where they are made (swept detection; 0 for
+    /// discrete, which finds pairs where the update ends).
+    pub rest: f32,
+}
+
+/// Pairs the response marked for shattering this update, in pair order.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct PendingShatters(pub Vec<ShatterPair>);
+
+/// Bodies the response found touching an absorber this update, in pair
+/// order, for this stage to remove.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct Reentering(pub Vec<Entity>);
+
+/// Replaces shattered pairs by fragments in [`SimulationSystems::Shatter`].
+pub struct ShatterPlugin;
+
+impl Plugin for ShatterPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<PendingShatters>()
+            .init_resource::<Reentering>()
+            .init_resource::<MemoryBudget>()
+            .add_systems(SimulationUpdate, shatter.in_set(SimulationSystems::Shatter));
+    }
+}
+
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a Bevy system's parameters are its data access"
+)]
+fn shatter(
+    settings: Res<SimulationSettings>,
+    mut stage: Stage,
+    mut pending: ResMut<PendingShatters>,
+    mut reentering: ResMut<Reentering>,
+    mut next_id: ResMut<NextBodyId>,
+    budget: Res<MemoryBudget>,
+    bodies: Query<(), With<BodyId>>,
+    mut fault: ResMut<SimulationFault>,
+    mut commands: Commands,
+) {
+    let clock = stage.start(SimulationSystems::Shatter);
+    for entity in reentering.0.drain(..) {
+        commands.entity(entity).despawn();
+    }
+    let count = settings.shatter_fragments;
+    // Only an update that shatters can outgrow the memory.
+    let shatters = pending.0.len() as u64;
+    let after = || {
+        (bodies.iter().len() as u64)
+            .saturating_sub(2 * shatters)
+            .saturating_add(shatters * u64::from(count))
+    };
+    if shatters > 0
+        && let Some(limit) = budget.limit
+        && let after = after()
+        && after > limit.bodies()
+    {
+        // Stopped before the allocation that would fail.
+        pending.0.clear();
+        fault.stop(Fault::OutOfMemory { bodies: after, limit });
+        return;
+    }
+    for pair in pending.0.drain(..) {
+        for entity in pair.entities {
+            commands.entity(entity).despawn();
+        }
+        let [a, b] = &pair.bodies;
+        let mut made = fragments_for(a, b, &settings, BodyId(next_id.0));
+        if pair.rest > 0.0 {
+            move_on(&mut made, pair.rest);
+        }
+        next_id.0 += made.len() as u64;
+        commands.spawn_batch(made.into_iter().map(|f| {
+            debug_assert!(
+                !f.has_markers(),
+                "fragments are interacting boxes: no markers to insert"
+            );
+            f.bundle()
+        }));
+    }
+    clock.finish();
+}
