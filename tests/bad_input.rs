@@ -39,10 +39,20 @@ fn every_malformed_scenario_is_a_clear_error() {
     }
 }
 
+/// Each command line gets exit code 2 and one clear line holding its
+/// needle.
+fn assert_refused(cases: &[(&[&str], &str)]) {
+    for &(args, needle) in cases {
+        let out = kessler().args(args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert_one_clear_line(&out.stderr, &[needle]);
+    }
+}
+
 #[test]
-fn bad_arguments_are_clear_errors() {
+fn bad_counts_and_choices_are_clear_errors() {
     let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
-    let cases: [(&[&str], &str); 25] = [
+    let cases: [(&[&str], &str); 13] = [
         (
             &["headless", scenario, "--steps", "-5"],
             "invalid value '-5' for '--steps <STEPS>': must be a whole number from 0 to 1000000000000",
@@ -80,6 +90,14 @@ fn bad_arguments_are_clear_errors() {
             &["headless", scenario, "--steps", "1", "--threads", "-1"],
             "must be a whole number from 1 to 256",
         ),
+    ];
+    assert_refused(&cases);
+}
+
+#[test]
+fn bad_outputs_options_and_commands_are_clear_errors() {
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/two_body.ron");
+    let cases: [(&[&str], &str); 12] = [
         (
             &["headless", scenario, "--steps", "1", "--dump", "/no/such/folder/x.csv"],
             "/no/such/folder",
@@ -149,11 +167,7 @@ fn bad_arguments_are_clear_errors() {
             "--timeline",
         ),
     ];
-    for (args, needle) in cases {
-        let out = kessler().args(args).output().unwrap();
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        assert_one_clear_line(&out.stderr, &[needle]);
-    }
+    assert_refused(&cases);
 }
 
 #[test]

@@ -132,7 +132,29 @@ fn writes_results_passes_overhead_machine_and_plot() {
     let result = run_tiny(dir.path(), &out);
     assert!(result.status.success(), "{}", String::from_utf8_lossy(&result.stderr));
 
-    let csv = std::fs::read_to_string(&out).unwrap();
+    assert_results_rows(&out);
+    assert_overhead_rows(dir.path());
+    let passes = std::fs::read_to_string(dir.path().join("tiny-results-passes.csv")).unwrap();
+    assert!(passes.starts_with("pass,run,bodies_start,"), "{passes}");
+    assert_eq!(passes.lines().count(), 4, "{passes}");
+    assert_machine_file(dir.path());
+    // Split on one thread never has a second thread to gain from, but the
+    // crossover of the one count is reported all the same.
+    let crossover = std::fs::read_to_string(dir.path().join("tiny-results-crossover.csv")).unwrap();
+    assert!(
+        crossover.lines().skip(1).all(|l| l.split(',').nth(1) == Some("1")),
+        "{crossover}"
+    );
+    let svg = std::fs::read_to_string(dir.path().join("tiny-results.svg")).unwrap();
+    assert!(svg.contains("<polyline"), "{svg}");
+    let png = std::fs::read(dir.path().join("tiny-results.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+}
+
+/// The results: the contract's header, a row per run, the broad phase its
+/// sort and sweep, no stage longer than the update.
+fn assert_results_rows(out: &Path) {
+    let csv = std::fs::read_to_string(out).unwrap();
     let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
     assert_eq!(
         csv.lines().next().unwrap(),
@@ -157,8 +179,12 @@ fn writes_results_passes_overhead_machine_and_plot() {
             "stages {stages} exceed the update {update}: {row:?}"
         );
     }
+}
 
-    let overhead = std::fs::read_to_string(dir.path().join("tiny-results-overhead.csv")).unwrap();
+/// The overhead rows: the whole update and each stage at 50 bodies, and
+/// the bare step on each pool.
+fn assert_overhead_rows(dir: &Path) {
+    let overhead = std::fs::read_to_string(dir.join("tiny-results-overhead.csv")).unwrap();
     assert!(
         overhead
             .starts_with("bodies,stage,threads,with_overhead_us,without_overhead_us,overhead_us,overhead_percent\n")
@@ -193,10 +219,12 @@ fn writes_results_passes_overhead_machine_and_plot() {
         .unwrap_or_else(|| panic!("no empty step on Bevy's pool: {overhead}"));
     let us: Vec<f64> = bevy.split(',').skip(3).map(|v| v.parse().unwrap()).collect();
     assert!(us[0] > 0.0 && us[1] >= 0.0, "{bevy}");
-    let passes = std::fs::read_to_string(dir.path().join("tiny-results-passes.csv")).unwrap();
-    assert!(passes.starts_with("pass,run,bodies_start,"), "{passes}");
-    assert_eq!(passes.lines().count(), 4, "{passes}");
-    let machine = std::fs::read_to_string(dir.path().join("tiny-results-machine.txt")).unwrap();
+}
+
+/// The machine file: every key, the checkout's commit, and the reference
+/// run's hash as the command line computes it.
+fn assert_machine_file(dir: &Path) {
+    let machine = std::fs::read_to_string(dir.join("tiny-results-machine.txt")).unwrap();
     for key in [
         "cpu: ",
         "hardware threads: ",
@@ -243,17 +271,6 @@ fn writes_results_passes_overhead_machine_and_plot() {
         )),
         "{machine}"
     );
-    // Split on one thread never has a second thread to gain from, but the
-    // crossover of the one count is reported all the same.
-    let crossover = std::fs::read_to_string(dir.path().join("tiny-results-crossover.csv")).unwrap();
-    assert!(
-        crossover.lines().skip(1).all(|l| l.split(',').nth(1) == Some("1")),
-        "{crossover}"
-    );
-    let svg = std::fs::read_to_string(dir.path().join("tiny-results.svg")).unwrap();
-    assert!(svg.contains("<polyline"), "{svg}");
-    let png = std::fs::read(dir.path().join("tiny-results.png")).unwrap();
-    assert_eq!(&png[1..4], b"PNG");
 }
 
 #[test]

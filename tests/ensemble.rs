@@ -135,8 +135,23 @@ fn an_ensemble_runs_sums_up_by_hand_and_resumes_without_rerunning() {
         assert!(record.contains(field), "ensemble.ron lacks {field}:\n{record}");
     }
 
-    // Every member: seven rows, a seed of its own, the same seed at the
-    // same place in both combinations.
+    assert_members_have_seeds_of_their_own(&out);
+    assert_aggregate_is_the_members_by_hand(&out);
+    let before = assert_nothing_reruns(&cfg, &out);
+    // Another config for the same folder is refused, naming what differs.
+    let other = config(tmp.path(), "other.ron", &SMALL.replace("steps: 60", "steps: 70"));
+    let refused = ensemble(&other, &out, &[]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert_one_clear_line(
+        &refused.stderr,
+        &["holds another ensemble", "`steps` is 60 there, 70 here"],
+    );
+    assert_eq!(results(&out, 4), before);
+}
+
+/// Every member has a seed of its own, the same seed at the same place in
+/// both combinations.
+fn assert_members_have_seeds_of_their_own(out: &Path) {
     let seed = |i: u64| {
         let summary = read(out.join(format!("members/{i}/summary.ron")));
         let line = summary
@@ -155,10 +170,12 @@ fn an_ensemble_runs_sums_up_by_hand_and_resumes_without_rerunning() {
     assert_eq!(&seeds[..3], &seeds[3..], "common random numbers");
     assert!(seeds[0] != seeds[1] && seeds[1] != seeds[2] && seeds[0] != seeds[2]);
     assert!(!seeds.contains(&5) && !seeds.contains(&6), "not seed + index");
+}
 
-    // The aggregate against a hand computation from the members'
-    // timelines: with three members, sorted a ≤ b ≤ c, the 5th percentile
-    // is a + 0.1·(b − a), the median b, the 95th b + 0.9·(c − b).
+/// The aggregate against a hand computation from the members' timelines:
+/// with three members, sorted a ≤ b ≤ c, the 5th percentile is
+/// a + 0.1·(b − a), the median b, the 95th b + 0.9·(c − b).
+fn assert_aggregate_is_the_members_by_hand(out: &Path) {
     let aggregate = read(out.join("aggregate.csv"));
     let combination = column(&aggregate, "combination");
     assert_eq!(aggregate.lines().count(), 1 + 2 * 7);
@@ -219,16 +236,20 @@ fn an_ensemble_runs_sums_up_by_hand_and_resumes_without_rerunning() {
     }
     assert_eq!(column(&aggregate, "settings")[0], "shatter_threshold=2");
     assert!(column(&aggregate, "members").iter().all(|m| m == "3"));
+}
 
-    // Status, then the same command again: nothing reruns.
-    let status = kessler().args(["ensemble", "status"]).arg(&out).output().unwrap();
+/// Status says every member is done; the same command again reruns none,
+/// and a member's own rerun gives the same bits. Returns member 4's
+/// results.
+fn assert_nothing_reruns(cfg: &Path, out: &Path) -> (String, String) {
+    let status = kessler().args(["ensemble", "status"]).arg(out).output().unwrap();
     assert!(String::from_utf8_lossy(&status.stdout).contains("6 done, 0 failed, 0 missing of 6 members"));
-    let before = results(&out, 4);
+    let before = results(out, 4);
     let stamp = std::fs::metadata(out.join("members/4/done"))
         .unwrap()
         .modified()
         .unwrap();
-    let again = ensemble(&cfg, &out, &[]);
+    let again = ensemble(cfg, out, &[]);
     assert!(again.status.success());
     assert!(String::from_utf8_lossy(&again.stderr).contains("all 6 members are done"));
     assert_eq!(
@@ -238,27 +259,19 @@ fn an_ensemble_runs_sums_up_by_hand_and_resumes_without_rerunning() {
             .unwrap(),
         stamp
     );
-    assert_eq!(results(&out, 4), before);
+    assert_eq!(results(out, 4), before);
 
     // A member's own rerun gives the same bits.
     let member = kessler()
         .args(["ensemble", "member"])
-        .arg(&out)
+        .arg(out)
         .arg("4")
         .output()
         .unwrap();
     assert!(member.status.success(), "{}", String::from_utf8_lossy(&member.stderr));
-    assert_eq!(results(&out, 4), before);
+    assert_eq!(results(out, 4), before);
 
-    // Another config for the same folder is refused, naming what differs.
-    let other = config(tmp.path(), "other.ron", &SMALL.replace("steps: 60", "steps: 70"));
-    let refused = ensemble(&other, &out, &[]);
-    assert_eq!(refused.status.code(), Some(2));
-    assert_one_clear_line(
-        &refused.stderr,
-        &["holds another ensemble", "`steps` is 60 there, 70 here"],
-    );
-    assert_eq!(results(&out, 4), before);
+    before
 }
 
 /// The pid of the running `kessler ensemble member DIR INDEX`.
