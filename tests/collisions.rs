@@ -573,3 +573,96 @@ fn a_snapshot_of_the_default_scene_keeps_balls_and_continues_exactly() {
         );
     }
 }
+
+/// Runs `text` headless for `steps` updates through the binary, saving its
+/// last state as a snapshot that `kessler validate` must accept, and
+/// returns the summary and the bodies' masses and smallest half-edges.
+fn run_and_validate(text: &str, steps: &str) -> (String, Vec<(f32, f32)>) {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, dump, saved) = (
+        dir.path().join("s.ron"),
+        dir.path().join("d.csv"),
+        dir.path().join("saved.ron"),
+    );
+    std::fs::write(&scene, text).unwrap();
+    let out = kessler()
+        .arg("headless")
+        .arg(&scene)
+        .args(["--steps", steps, "--dump"])
+        .arg(&dump)
+        .arg("--save-scenario")
+        .arg(&saved)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let validated = kessler().arg("validate").arg(&saved).output().unwrap();
+    assert!(
+        validated.status.success(),
+        "the snapshot is refused: {}",
+        String::from_utf8_lossy(&validated.stderr)
+    );
+    let bodies = std::fs::read_to_string(&dump)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let c: Vec<f32> = line.split(',').skip(7).take(4).map(|x| x.parse().unwrap()).collect();
+            (c[0], c[1].min(c[2]).min(c[3]))
+        })
+        .collect();
+    (String::from_utf8(out.stdout).unwrap(), bodies)
+}
+
+/// Accepted settings make no body a file may not hold: power-law fragments
+/// with a floor far below the bodies' size (or an exponent that overflows
+/// the law's powers), and breakups into 1 000 repeated until the pieces are
+/// lighter than an `f32` holds, each give bodies of finite, positive mass
+/// and size, and a snapshot `validate` accepts.
+#[test]
+fn no_valid_input_makes_a_body_without_mass_or_size() {
+    let sound = |bodies: &[(f32, f32)], what: &str| {
+        for &(mass, half) in bodies {
+            assert!(
+                mass.is_normal() && half.is_normal() && mass > 0.0 && half > 0.0,
+                "{what}: mass {mass}, half-edge {half}"
+            );
+        }
+    };
+    for (floor, exponent) in [("1e-15", "1.71"), ("1e-30", "1.71"), ("1e-38", "10"), ("0", "0.01")] {
+        let text = format!(
+            "Scenario(gravitational_constant: 0, shatter_fragments: 1000, max_bodies: 100000,
+                fragment_sizes: PowerLaw(exponent: {exponent}), min_fragment_size: {floor}, bodies: [
+                Body(position: (-10, 0, 0), velocity: (20, 0, 0), mass: 1e-20),
+                Body(position: (10, 0, 0), velocity: (-20, 0, 0), half_extents: (4, 4, 4)),
+            ])"
+        );
+        let (summary, bodies) = run_and_validate(&text, "3");
+        assert!(
+            bodies.len() > 2,
+            "floor {floor}, exponent {exponent}: no shatter: {summary}"
+        );
+        sound(&bodies, &format!("floor {floor}, exponent {exponent}"));
+    }
+    // Breakups into 1000, each of the last fragment of the one before:
+    // the mass falls a thousandfold a time, from 1e-30 to below the
+    // smallest normal f32 at the third, which is skipped (and the fourth,
+    // whose body is not there).
+    let breakups: Vec<String> = (0..4)
+        .map(|k| {
+            format!(
+                "Breakup(update: {}, body: {}, fragments: 1000, speed: 0.01)",
+                k + 1,
+                1000 * k
+            )
+        })
+        .collect();
+    let text = format!(
+        "Scenario(gravitational_constant: 0, min_fragment_size: 0, max_bodies: 100000,
+            bodies: [Body(position: (0, 0, 0), mass: 1e-30, half_extents: (1, 1, 1))],
+            events: [{}])",
+        breakups.join(", ")
+    );
+    let (summary, bodies) = run_and_validate(&text, "6");
+    assert_eq!(bodies.len(), 1 + 999 + 999, "{summary}");
+    sound(&bodies, "breakups");
+}

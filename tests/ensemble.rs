@@ -627,3 +627,36 @@ fn sbatch_refusing_the_job_is_one_clear_line() {
     let status = kessler().args(["ensemble", "status"]).arg(&out).output().unwrap();
     assert!(String::from_utf8_lossy(&status.stdout).contains("0 done, 0 failed, 1 missing of 1 members"));
 }
+
+/// `ensemble aggregate` keeps the output rule of every command: what is
+/// not a regular file where its outputs go (a FIFO, a symbolic link) is
+/// left alone, the command fails, and none of its outputs is written.
+#[cfg(unix)]
+#[test]
+fn aggregate_replaces_only_regular_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "one.ron", "steps: 20, every: 10, members: 1, threads: 1");
+    let out = tmp.path().join("ens");
+    let run = ensemble(&cfg, &out, &[]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let plot = out.join("bodies.png");
+    let before = std::fs::read(&plot).unwrap();
+    for (taken, what) in [("aggregate.csv", "a FIFO"), ("bodies.svg", "a symbolic link")] {
+        let path = out.join(taken);
+        std::fs::remove_file(&path).unwrap();
+        if what == "a FIFO" {
+            assert!(isolated("mkfifo").arg(&path).status().unwrap().success());
+        } else {
+            std::os::unix::fs::symlink(tmp.path().join("elsewhere.svg"), &path).unwrap();
+        }
+        let again = kessler().args(["ensemble", "aggregate"]).arg(&out).output().unwrap();
+        let stderr = String::from_utf8_lossy(&again.stderr);
+        assert_eq!(again.status.code(), Some(2), "{taken}: {stderr}");
+        assert!(stderr.contains(taken) && stderr.contains(what), "{taken}: {stderr}");
+        let kind = std::fs::symlink_metadata(&path).unwrap().file_type();
+        assert!(!kind.is_file(), "{taken} was replaced");
+        assert_eq!(std::fs::read(&plot).unwrap(), before, "{taken}: the plot was written");
+        std::fs::remove_file(&path).unwrap();
+    }
+    assert!(!tmp.path().join("elsewhere.svg").exists(), "written through the link");
+}

@@ -773,13 +773,13 @@ fn offscreen_runs_draw_without_an_x_server_and_film_the_run() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
+    // The film's folder does not exist yet: it is made.
     let (shot, film, settings) = (
         dir.path().join("shot.png"),
-        dir.path().join("film"),
+        dir.path().join("films/first"),
         dir.path().join("s.ron"),
     );
-    std::fs::create_dir(&film).unwrap();
-    std::fs::write(&settings, "(ups: 60)").unwrap();
+    std::fs::write(&settings, "(updates_per_second: 60)").unwrap();
     let out = kessler()
         .args(["run", "--offscreen", "--frames", "30", "--every", "10", "--screenshot"])
         .arg(&shot)
@@ -841,6 +841,64 @@ fn offscreen_runs_draw_without_an_x_server_and_film_the_run() {
         String::from_utf8_lossy(&again.stderr)
     );
     assert!(String::from_utf8_lossy(&again.stderr).contains("--frames-out"));
+    // So would one into a folder holding any picture of a film, not only
+    // the first.
+    let other = dir.path().join("other");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join("frame-000002.png"), "precious").unwrap();
+    let refused = kessler()
+        .args(["run", "--offscreen", "--frames", "5", "--frames-out"])
+        .arg(&other)
+        .arg("--settings")
+        .arg(&settings)
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("frame-000002.png exists already"), "{stderr}");
+    assert_eq!(std::fs::read_dir(&other).unwrap().count(), 1);
+}
+
+/// A film whose pictures cannot all be saved (something took their names
+/// during the run) leaves what it found alone and ends with exit status 1,
+/// as every command does when an output fails.
+#[test]
+fn a_film_that_loses_pictures_fails_and_replaces_nothing() {
+    if !vulkan_available("a_film_that_loses_pictures_fails_and_replaces_nothing") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (film, settings) = (dir.path().join("film"), dir.path().join("s.ron"));
+    std::fs::write(&settings, "(updates_per_second: 60)").unwrap();
+    let child = isolated(KESSLER)
+        .args(["run", "--offscreen", "--frames", "150", "--every", "1", "--frames-out"])
+        .arg(&film)
+        .arg("--settings")
+        .arg(&settings)
+        .env_remove("DISPLAY")
+        .env("WGPU_BACKEND", "vulkan")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    while !film.join("frame-000001.png").exists() {
+        assert!(started.elapsed().as_secs() < 120, "no picture after two minutes");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let taken: Vec<PathBuf> = (40..600).map(|k| film.join(format!("frame-{k:06}.png"))).collect();
+    for path in &taken {
+        std::fs::write(path, "taken").unwrap();
+    }
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("cannot save a film's picture"), "{stderr}");
+    assert!(stderr.contains("could not be written"), "{stderr}");
+    for path in &taken {
+        assert_eq!(std::fs::read_to_string(path).unwrap(), "taken", "{}", path.display());
+    }
 }
 
 /// A benchmark's `Render` run with `offscreen: true` measures frames

@@ -10,7 +10,7 @@ use crate::WINDOW_BUILD;
 use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
 use crate::input::{InputError, body_count, execution_fields, load_ron, read, whole_between};
 use crate::resources as physics;
-use crate::resources::DrawMethod;
+use crate::resources::{DrawMethod, Override};
 use crate::scenario::{MAX_BODIES, Scenario};
 
 /// A benchmark: runs of one scenario at several sizes and execution modes.
@@ -88,9 +88,7 @@ impl ThreadsRun {
             stages: Stages::default(),
             split: (mode == ExecutionMode::Parallel).then_some(self.split),
             pool: Some(WorkerPool::Kessler),
-            seed: None,
-            shatter_fragments: None,
-            shatter_threshold: None,
+            ..Run::default()
         };
         std::iter::once(run(ExecutionMode::Sequential, Some(1)))
             .chain((1..=threads.max(1)).map(move |t| run(ExecutionMode::Parallel, Some(t))))
@@ -104,34 +102,54 @@ fn one_pass() -> u32 {
     1
 }
 
-execution_fields! {
-/// One measured run; how it executes: its own `mode`, `threads`, `split`
-/// and `pool`, else the command line's (`kessler bench --split …`), else
-/// the defaults (parallel on every hardware thread, split `auto`).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, rename = "Run")]
-pub struct Run {
-    /// Generated bodies (the scenario's explicit bodies, e.g. the planet,
-    /// come on top), shared among its generators in proportion.
-    #[serde(deserialize_with = "bodies")]
-    pub bodies: u64,
-    /// Updates to run and average over.
-    #[serde(deserialize_with = "updates")]
-    pub updates: u64,
-    /// Which stages are on (default: all).
-    #[serde(default)]
-    pub stages: Stages,
-    /// Seed of the generators and fragments (default: the scenario's).
-    #[serde(default, deserialize_with = "seed")]
-    pub seed: Option<u64>,
-    /// Fragments per shatter (default: the scenario's).
-    #[serde(default, deserialize_with = "shatter_fragments")]
-    pub shatter_fragments: Option<u32>,
-    /// Impact speed from which bodies shatter (default: the scenario's).
-    #[serde(default, deserialize_with = "shatter_threshold")]
-    pub shatter_threshold: Option<f32>,
+/// Declares [`Run`], with a field for each setting the settings list lets
+/// a benchmark run give its own value of (`[bench]` in the list).
+macro_rules! declare_run {
+    ($(
+        $(#[doc = $doc:literal])* $field:ident $(as $key:literal)?: $ty:ty = $default:expr,
+            $rule:literal, $ok:expr, $applies:ident;
+    )*) => {
+        execution_fields! {
+        /// One measured run; how it executes: its own `mode`, `threads`,
+        /// `split` and `pool`, else the command line's (`kessler bench
+        /// --split …`), else the defaults (parallel on every hardware
+        /// thread, split `auto`).
+        #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+        #[serde(deny_unknown_fields, rename = "Run")]
+        pub struct Run {
+            /// Generated bodies (the scenario's explicit bodies, e.g. the
+            /// planet, come on top), shared among its generators in
+            /// proportion.
+            #[serde(deserialize_with = "bodies")]
+            pub bodies: u64,
+            /// Updates to run and average over.
+            #[serde(deserialize_with = "updates")]
+            pub updates: u64,
+            /// Which stages are on (default: all).
+            #[serde(default)]
+            pub stages: Stages,
+            $(
+                #[doc = concat!("This run's own `", physics::key!($field $($key)?), "` (default: the scenario's):")]
+                $(#[doc = $doc])*
+                #[serde(default $(, rename = $key)?)]
+                pub $field: Override<physics::rows::$field>,
+            )*
+        }
+        }
+
+        impl Run {
+            /// `scenario` with this run's own values of the physics
+            /// settings, where it gives them.
+            pub fn apply_to(&self, scenario: &Scenario) -> Scenario {
+                let mut scenario = scenario.clone();
+                $(self.$field.over(&mut scenario.physics.$field);)*
+                scenario
+            }
+        }
+    };
 }
-}
+
+physics::held_by!(bench declare_run);
 
 execution_fields! {
 /// A run that opens the window and measures frames (the thesis's
@@ -200,21 +218,6 @@ fn bodies<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
 
 fn updates<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
     whole_between(d, "updates", 1, crate::input::MAX_UPDATES)
-}
-
-// A run's own value of a physics setting, checked by the settings list's
-// rule.
-
-fn seed<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
-    physics::read::seed(d).map(Some)
-}
-
-fn shatter_fragments<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
-    physics::read::shatter_fragments(d).map(Some)
-}
-
-fn shatter_threshold<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f32>, D::Error> {
-    physics::read::shatter_threshold(d).map(Some)
 }
 
 fn frames<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
@@ -333,18 +336,5 @@ impl BenchConfig {
                 Ok(sized)
             })
             .collect()
-    }
-}
-
-impl Run {
-    /// `scenario` with this run's seed and shatter settings, where it sets
-    /// them.
-    pub fn apply_to(&self, scenario: &Scenario) -> Scenario {
-        let mut scenario = scenario.clone();
-        let physics = &mut scenario.physics;
-        physics.seed = self.seed.unwrap_or(physics.seed);
-        physics.shatter_fragments = self.shatter_fragments.unwrap_or(physics.shatter_fragments);
-        physics.shatter_threshold = self.shatter_threshold.unwrap_or(physics.shatter_threshold);
-        scenario
     }
 }

@@ -22,6 +22,8 @@ pub use config::{BenchConfig, BenchRun, MAX_REPEAT, RenderRun, Run, Stages, Thre
 pub use crossover::{Crossover, Wins, crossovers};
 pub use dispatch::empty_step_ns;
 pub use machine::{machine_report, plot_footer, this_cpu, utc_now};
+#[cfg(test)]
+pub use measured_run::test_result;
 pub use measured_run::{RunDefaults, RunError, RunResult, measure, median_pass};
 pub use outputs::{BenchOutputError, BenchOutputs, Finished, GrowingOutputs};
 pub use passes::{PassError, PassProgress, empty_step_rows, measure_passes};

@@ -58,9 +58,7 @@ fn runs_at(bodies: u64, threads: usize) -> [Run; 2] {
         stages: Stages::default(),
         split: Some(split),
         pool: Some(WorkerPool::Kessler),
-        seed: None,
-        shatter_fragments: None,
-        shatter_threshold: None,
+        ..Run::default()
     };
     [
         run(ExecutionMode::Sequential, SplitPolicy::Always),
@@ -123,23 +121,10 @@ mod tests {
         let mut all = Vec::new();
         for (bodies, whole, split) in [(1000, 10.0, 12.0), (2000, 20.0, 15.0), (4000, 40.0, 25.0)] {
             for (mode, update) in [(ExecutionMode::Sequential, whole), (ExecutionMode::Parallel, split)] {
-                let mut stage_ns = [update / STAGE_COUNT as f64; STAGE_COUNT];
+                let mut result = crate::bench::test_result(bodies, mode, 2, SplitPolicy::Always, update);
                 let gravity_wins = mode == ExecutionMode::Parallel;
-                stage_ns[SimulationSystems::Gravity as usize] = if gravity_wins { 1.0 } else { 2.0 };
-                stage_ns[SimulationSystems::Sweep as usize] = if gravity_wins { 9.0 } else { 1.0 };
-                let result = RunResult {
-                    run: 1,
-                    bodies,
-                    bodies_start: bodies as usize,
-                    bodies_end: bodies as usize,
-                    updates: 1,
-                    mode,
-                    threads: 2,
-                    split: SplitPolicy::Always,
-                    pool: WorkerPool::Kessler,
-                    update_ns: update,
-                    stage_ns,
-                };
+                result.stage_ns[SimulationSystems::Gravity as usize] = if gravity_wins { 1.0 } else { 2.0 };
+                result.stage_ns[SimulationSystems::Sweep as usize] = if gravity_wins { 9.0 } else { 1.0 };
                 all.push(vec![result.clone(), result.clone(), result]);
             }
         }

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::execution::AutoSplit;
 use crate::input::default_calibration_path;
 use crate::input::{parse_ron, read_text_if_present};
-use crate::output::{WriteError, write_atomically};
+use crate::output::{WriteError, through_link, write_atomically};
 
 /// A calibration of this machine.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -44,7 +44,8 @@ impl Calibration {
         )
     }
 
-    /// Writes the calibration to `path` (replacing an older one).
+    /// Writes the calibration to `path` (replacing an older one; through
+    /// a symbolic link there, to the file it names).
     pub fn save(&self, path: &Path) -> Result<(), WriteError> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|source| WriteError {
@@ -54,7 +55,7 @@ impl Calibration {
         }
         let text = ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default())
             .expect("a calibration always serializes");
-        write_atomically(path, |w| {
+        write_atomically(&through_link(path)?, |w| {
             writeln!(
                 w,
                 "// This machine's split calibration, written by `kessler calibrate`;\n\

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::input::ExecutionOptions;
+use crate::input::{BENCH_EXECUTION_HEADING, EXECUTION_HEADING, ExecutionOptions};
 use crate::resources::{DrawMethod, GravityMethod};
 
 /// Thousands of bodies orbiting a planet: colliding, bouncing, shattering.
@@ -29,7 +29,7 @@ pub enum Command {
         /// Scenario file (RON).
         scenario: PathBuf,
         /// How the sweep executes.
-        #[command(flatten)]
+        #[command(flatten, next_help_heading = EXECUTION_HEADING)]
         execution: ExecutionOptions,
     },
     /// Measure the runs of a benchmark config; write CSV results and, beside
@@ -44,7 +44,7 @@ pub enum Command {
         #[arg(long, value_name = "FILE", default_value = "results.csv")]
         out: PathBuf,
         /// How the runs that do not say execute.
-        #[command(flatten, next_help_heading = "Execution of the runs that do not say")]
+        #[command(flatten, next_help_heading = BENCH_EXECUTION_HEADING)]
         execution: ExecutionOptions,
         /// How gravity is summed in every run.
         #[arg(long, value_name = "auto|direct|tree[:THETA]", help = GravityMethod::help())]
@@ -250,7 +250,7 @@ pub struct HeadlessArgs {
     #[arg(long, value_parser = crate::input::updates_arg, allow_negative_numbers = true)]
     pub steps: u64,
     /// How the simulation executes.
-    #[command(flatten)]
+    #[command(flatten, next_help_heading = EXECUTION_HEADING)]
     pub execution: ExecutionOptions,
     /// Write the final state as CSV (`id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts`).
     #[arg(long, value_name = "FILE")]

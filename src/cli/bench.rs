@@ -203,40 +203,6 @@ struct BenchProgress {
 
 impl PassProgress for BenchProgress {
     fn start(&mut self, index: usize, pass: u64, run: &bench::Run, mode: ExecutionMode) {
-        self.start_run(index, pass, run, mode);
-    }
-
-    fn advance(&self, done: u64) {
-        self.bar.set_position(self.finished + 1 + done);
-    }
-
-    fn finish(&mut self, run: &bench::Run, result: &RunResult, peak_memory: Option<u64>) {
-        self.finish_run(run, result, peak_memory);
-    }
-}
-
-impl BenchProgress {
-    fn new(config: &BenchConfig, passes: u64) -> Self {
-        // Each count is at most 10^12 (MAX_UPDATES); saturating all the same.
-        let total = config
-            .update_runs()
-            .fold(0_u64, |sum, (_, r)| sum.saturating_add(r.updates + 1))
-            .saturating_mul(passes);
-        let bar = ProgressBar::new(total).with_style(
-            ProgressStyle::with_template("{spinner} [{bar:30}] {pos}/{len} updates, eta {eta} — {msg}")
-                .expect("template is valid")
-                .progress_chars("=> "),
-        );
-        Self {
-            bar,
-            runs: config.runs.len(),
-            passes,
-            finished: 0,
-            of_passes: String::new(),
-        }
-    }
-
-    fn start_run(&mut self, index: usize, pass: u64, run: &bench::Run, mode: ExecutionMode) {
         self.of_passes = if self.passes > 1 {
             format!(" (pass {pass}/{})", self.passes)
         } else {
@@ -252,7 +218,11 @@ impl BenchProgress {
         ));
     }
 
-    fn finish_run(&mut self, run: &bench::Run, result: &RunResult, peak_memory: Option<u64>) {
+    fn advance(&self, done: u64) {
+        self.bar.set_position(self.finished + 1 + done);
+    }
+
+    fn finish(&mut self, run: &bench::Run, result: &RunResult, peak_memory: Option<u64>) {
         self.finished += run.updates + 1;
         let memory = peak_memory.map_or(String::new(), |peak| {
             format!(
@@ -280,6 +250,28 @@ impl BenchProgress {
             eprintln!("{line}");
         } else {
             self.bar.println(line);
+        }
+    }
+}
+
+impl BenchProgress {
+    fn new(config: &BenchConfig, passes: u64) -> Self {
+        // Each count is at most 10^12 (MAX_UPDATES); saturating all the same.
+        let total = config
+            .update_runs()
+            .fold(0_u64, |sum, (_, r)| sum.saturating_add(r.updates + 1))
+            .saturating_mul(passes);
+        let bar = ProgressBar::new(total).with_style(
+            ProgressStyle::with_template("{spinner} [{bar:30}] {pos}/{len} updates, eta {eta} — {msg}")
+                .expect("template is valid")
+                .progress_chars("=> "),
+        );
+        Self {
+            bar,
+            runs: config.runs.len(),
+            passes,
+            finished: 0,
+            of_passes: String::new(),
         }
     }
 

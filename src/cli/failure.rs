@@ -135,6 +135,7 @@ impl From<crate::ui::WindowError> for Failure {
     fn from(e: crate::ui::WindowError) -> Self {
         let code = match e {
             crate::ui::WindowError::App(code) => code,
+            crate::ui::WindowError::Outputs(_) => EXIT_FAILURE,
             _ => EXIT_BAD_INPUT,
         };
         Self {

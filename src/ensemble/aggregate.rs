@@ -15,7 +15,7 @@ use super::EnsembleError;
 use super::folder::{EnsembleFolder, Record};
 use super::plot::{Band, BodiesPlot};
 use crate::input::{InputError, read_text};
-use crate::output::{CsvTable, commit_all, stage};
+use crate::output::{CsvTable, check_replaceable, commit_all, stage};
 use crate::simulation::TimelineRow;
 
 /// The mean, median, 5th and 95th percentile of some values.
@@ -176,6 +176,10 @@ pub struct Aggregated {
 /// lists them) of the ensemble in `folder` and writes `aggregate.csv`
 /// and the plot, all or none of them.
 pub fn aggregate(folder: &EnsembleFolder, record: &Record, done: &[u64]) -> Result<Aggregated, EnsembleError> {
+    // The output rule of every command: only regular files are replaced.
+    for path in [folder.aggregate_csv(), folder.plot("svg"), folder.plot("png")] {
+        check_replaceable("ensemble aggregate:", &path)?;
+    }
     let config = &record.config;
     let series: Vec<Series> = done
         .par_iter()

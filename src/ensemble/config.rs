@@ -11,7 +11,7 @@ use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::ser::{SerializeSeq, SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
-use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
+use crate::execution::ExecutionMode;
 use crate::input::{
     ExecutionOptions, FieldName, InputError, MAX_UPDATES, execution_fields, parse_ron, read_text, whole_between,
 };
@@ -51,12 +51,13 @@ pub struct EnsembleConfig {
 }
 
 /// How a member executes where the config does not say: parallel on one
-/// thread, split `auto` (members run side by side, each on its own core).
+/// thread (members run side by side, each on its own core), the rest at
+/// [`ExecutionOptions`]' defaults.
 pub const MEMBER_EXECUTION: ExecutionOptions = ExecutionOptions {
     mode: Some(ExecutionMode::Parallel),
     threads: Some(1),
-    split: Some(SplitPolicy::Auto),
-    pool: Some(WorkerPool::Kessler),
+    split: None,
+    pool: None,
 };
 
 fn default_every() -> u64 {
@@ -102,9 +103,17 @@ impl Vary {
         self.0.is_empty()
     }
 
-    /// How many combinations there are (1 when nothing is varied).
+    /// How many combinations there are (1 when nothing is varied); at most
+    /// `u64::MAX`, which a checked config never reaches.
     pub fn combinations(&self) -> u64 {
-        self.0.iter().map(|v| v.values.len() as u64).product()
+        self.counted().unwrap_or(u64::MAX)
+    }
+
+    /// How many combinations there are, where a `u64` can count them.
+    fn counted(&self) -> Option<u64> {
+        self.0
+            .iter()
+            .try_fold(1_u64, |product, v| product.checked_mul(v.values.len() as u64))
     }
 
     /// The value of every varied setting in combination `c`: the setting
@@ -254,13 +263,15 @@ impl EnsembleConfig {
 
     /// Checks that span fields: the members over all combinations.
     fn check(&self) -> Result<(), String> {
-        let total = self.members.checked_mul(self.vary.combinations());
-        match total {
+        let combinations = self
+            .vary
+            .counted()
+            .map_or_else(|| format!("more than {}", u64::MAX), |n| n.to_string());
+        match self.vary.counted().and_then(|n| n.checked_mul(self.members)) {
             Some(total) if total <= MAX_MEMBERS => Ok(()),
             _ => Err(format!(
-                "field `members`: {} members for each of {} combinations of `vary` make more than {MAX_MEMBERS} members",
+                "field `members`: {} members for each of {combinations} combinations of `vary` make more than {MAX_MEMBERS} members",
                 self.members,
-                self.vary.combinations()
             )),
         }
     }

@@ -18,23 +18,36 @@ use crate::execution::{
 /// split `auto`, Kessler's pool).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Args)]
 pub struct ExecutionOptions {
-    /// Sequential or parallel stages [default: parallel].
+    /// Sequential or parallel stages.
     #[arg(long, value_enum)]
     pub mode: Option<ExecutionMode>,
-    /// Worker threads in parallel mode, at most 256 [default: all hardware
-    /// threads].
+    /// Worker threads in parallel mode, at most 256.
     #[arg(long, value_parser = super::threads_arg, allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// From which body count stages split their work in parallel mode:
     /// `auto` (this machine's calibration, see `kessler calibrate`),
-    /// `always`, or a body count [default: auto].
+    /// `always`, or a body count.
     #[arg(long, value_name = "auto|always|N", allow_negative_numbers = true)]
     pub split: Option<SplitPolicy>,
     /// Which pool runs the parallel steps: Kessler's own, or Bevy's
-    /// `ComputeTaskPool` (the same results) [default: kessler].
+    /// `ComputeTaskPool` (the same results).
     #[arg(long, value_enum)]
     pub pool: Option<WorkerPool>,
 }
+
+/// [`ExecutionOptions`]' own defaults, as the help says them.
+macro_rules! defaults {
+    () => {
+        "[default: parallel, every hardware thread, split auto, pool kessler]"
+    };
+}
+
+/// The help's heading over the execution options of a command whose
+/// left-out options take [`ExecutionOptions`]' own defaults.
+pub const EXECUTION_HEADING: &str = concat!("Execution ", defaults!());
+
+/// The help's heading over `kessler bench`'s execution options.
+pub const BENCH_EXECUTION_HEADING: &str = concat!("Execution of the runs that do not say ", defaults!());
 
 impl ExecutionOptions {
     /// Every option as given, each left-out one as in `under`.

@@ -96,18 +96,77 @@ pub fn stage(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) 
 
 impl Staged {
     /// Puts the file in place: the target is now the whole new file (or,
-    /// if the rename fails, still the old one).
+    /// if the rename fails, still the old one). Only a regular file is
+    /// replaced: something else at the target (a FIFO, a device, a
+    /// symbolic link, a folder), even one put there after the command's
+    /// checks, is left alone and the write fails.
     pub fn commit(mut self) -> Result<(), WriteError> {
         let Some(tmp) = self.tmp.take() else {
             return Ok(());
         };
-        std::fs::rename(&tmp, &self.path).map_err(|source| {
-            let _ = std::fs::remove_file(&tmp);
-            WriteError {
-                path: self.path.clone(),
-                source,
-            }
+        replaceable(&self.path)
+            .and_then(|()| std::fs::rename(&tmp, &self.path))
+            .map_err(|source| {
+                let _ = std::fs::remove_file(&tmp);
+                WriteError {
+                    path: self.path.clone(),
+                    source,
+                }
+            })
+    }
+
+    /// Puts the file in place only where nothing is at the target: an
+    /// output that never overwrites (a film's pictures). Linked, not
+    /// renamed, so that the check and the placing are one step.
+    pub fn commit_new(mut self) -> Result<(), WriteError> {
+        let Some(tmp) = self.tmp.take() else {
+            return Ok(());
+        };
+        let placed = std::fs::hard_link(&tmp, &self.path);
+        let _ = std::fs::remove_file(&tmp);
+        placed.map_err(|source| WriteError {
+            path: self.path.clone(),
+            source: if source.kind() == io::ErrorKind::AlreadyExists {
+                io::Error::new(
+                    io::ErrorKind::AlreadyExists,
+                    "exists already; this output never overwrites",
+                )
+            } else {
+                source
+            },
         })
+    }
+}
+
+/// The file a user's own file at `path` is written to: the file a
+/// symbolic link there names (a dotfiles setup keeps its link), else
+/// `path`.
+pub fn through_link(path: &Path) -> Result<PathBuf, WriteError> {
+    match path.symlink_metadata() {
+        Ok(m) if m.file_type().is_symlink() => {
+            let named = std::fs::read_link(path).map_err(|source| WriteError {
+                path: path.to_owned(),
+                source,
+            })?;
+            // A relative link is relative to the link's folder.
+            Ok(path.parent().unwrap_or(Path::new("")).join(named))
+        }
+        _ => Ok(path.to_owned()),
+    }
+}
+
+/// `Ok` where nothing or a regular file is at `path`: what an output may
+/// replace.
+fn replaceable(path: &Path) -> io::Result<()> {
+    match path.symlink_metadata() {
+        Ok(found) if !found.is_file() => Err(io::Error::new(
+            io::ErrorKind::AlreadyExists,
+            format!(
+                "{} is there; outputs replace regular files only",
+                crate::input::node_kind(found.file_type())
+            ),
+        )),
+        _ => Ok(()),
     }
 }
 

@@ -254,6 +254,46 @@ pub fn check_new(flag: &str, path: &Path, advice: &'static str) -> Result<(), Ou
     check_replaceable(flag, path)
 }
 
+/// Checks a folder that a series of new files goes into (a film's
+/// `frame-000001.png`, …), given as `flag`: made (with its parents) where
+/// it does not exist; else it must be a folder in which a file can be made
+/// and hold no file of the series yet (`prefix*.extension`), since the
+/// series never overwrites; `advice` says what to do where it does.
+pub fn check_series_folder(
+    flag: &str,
+    dir: &Path,
+    (prefix, extension): (&str, &str),
+    advice: &'static str,
+) -> Result<(), OutputError> {
+    let fail = |path: &Path, p| Err(problem(flag, path, p));
+    match dir.metadata() {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            if let Err(e) = std::fs::create_dir_all(dir) {
+                return fail(dir, OutputProblem::Unusable(e));
+            }
+        }
+        Err(e) => return fail(dir, OutputProblem::Unusable(e)),
+        Ok(m) if !m.is_dir() => return fail(dir, OutputProblem::NotAFolder(node_kind(m.file_type()))),
+        Ok(_) => {}
+    }
+    let entries = std::fs::read_dir(dir).map_err(|e| problem(flag, dir, OutputProblem::Unusable(e)))?;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let ours = name.starts_with(prefix)
+            && Path::new(name.as_ref())
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case(extension));
+        if ours {
+            return fail(&entry.path(), OutputProblem::Exists(advice));
+        }
+    }
+    if let Err(e) = probe(&dir.join(format!("{prefix}probe.{extension}"))) {
+        return fail(dir, OutputProblem::FolderUnwritable(dir.to_owned(), e));
+    }
+    Ok(())
+}
+
 /// Checks that `path` (given as `flag`) ends in `.extension` (any case).
 pub fn check_extension(flag: &str, path: &Path, extension: &'static str) -> Result<(), OutputError> {
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case(extension)) {

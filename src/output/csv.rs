@@ -102,10 +102,9 @@ pub struct CsvTable {
 }
 
 impl CsvTable {
-    /// Reads `text` as a file of `R` rows, skipping comment lines (those
-    /// that start with `#`, as the dump's state hash).
+    /// Reads `text` as a file of `R` rows: its header, then rows alone.
     pub fn parse<R: CsvRow>(text: &str) -> Result<Self, String> {
-        let mut lines = text.lines().filter(|line| !line.starts_with('#'));
+        let mut lines = text.lines();
         let columns = R::columns();
         let found = lines.next().ok_or("the file is empty")?;
         if found != header::<R>() {

@@ -11,10 +11,10 @@ mod message;
 mod png_image;
 
 pub use appended::AppendedFile;
-pub use atomic::{Staged, WriteError, commit_all, create_temporary, stage, write_atomically};
+pub use atomic::{Staged, WriteError, commit_all, create_temporary, stage, through_link, write_atomically};
 pub use check::{
     Existing, Output, OutputError, OutputProblem, check_distinct, check_extension, check_new, check_not_inputs,
-    check_outputs, check_replaceable, probe, same_file,
+    check_outputs, check_replaceable, check_series_folder, probe, same_file,
 };
 pub use csv::{Cells, CsvRow, CsvTable, header, line, write_csv};
 pub use figure::{

@@ -59,6 +59,36 @@ pub fn smallest_fragment_edge(volume: f64, sizes: FragmentSizes, count: u32) -> 
     2.0 * maths::cbrt(volume / f64::from(pieces.max(2)))
 }
 
+/// The least mass and the least half-edge a fragment may have: the
+/// smallest normal `f32`. Every fragment a kernel makes has at least these
+/// (a shatter or breakup whose fragments could not is refused, see
+/// [`fragments_sound`]), so a fragment is always a body a scenario file may
+/// hold, and its mass and volume keep their precision.
+pub const LEAST_SOUND: f64 = f32::MIN_POSITIVE as f64;
+
+/// Whether the fragments of a parent of `volume` (half-edge units) and
+/// `mass`, as `sizes` sizes at most `count` of them, each get a mass and a
+/// half-edge of at least [`LEAST_SOUND`]: the equal cubes' share, or, for
+/// the power law (whose kernel keeps every fragment above its floor, see
+/// [`sound_floor`]), two halves'.
+pub fn fragments_sound(volume: f64, mass: f64, sizes: FragmentSizes, count: u32) -> bool {
+    let pieces = f64::from(match sizes {
+        FragmentSizes::Equal => count.max(2),
+        FragmentSizes::PowerLaw { .. } => 2,
+    });
+    let (half, share) = (maths::cbrt(volume / pieces), mass / pieces);
+    // As the fragments will hold them: f32, rounded.
+    f64::from(half as f32) >= LEAST_SOUND && f64::from(share as f32) >= LEAST_SOUND
+}
+
+/// The least half-edge a power-law fragment of a parent of `volume`
+/// (half-edge units) and `mass` may have so that its mass (in proportion
+/// to its volume) and its half-edge are at least [`LEAST_SOUND`], with a
+/// factor of 2 against rounding.
+pub fn sound_floor(volume: f64, mass: f64) -> f64 {
+    (2.0 * LEAST_SOUND).max(maths::cbrt(2.0 * LEAST_SOUND * volume / mass))
+}
+
 /// Kernel: the fragments of bodies `a` and `b`, with ids from `first_id`.
 /// `count` is at least 2 (scenarios reject less, and the response does not
 /// shatter with less); a smaller count is taken as 2. `spread` is the
@@ -103,9 +133,11 @@ fn volumes(a: &BodyState, b: &BodyState) -> (f64, f64) {
 /// Half-edges drawn from the truncated power law `N(>L) ∝ L^−exponent`
 /// between `smallest` and `largest` until `volume` (in half-edge units) is
 /// used, at most `count` of them: a draw that would pass the volume ends
-/// the draws, and the last fragment takes the rest. Each draw inverts the
-/// law's distribution: `L = (a^−α − u·(a^−α − b^−α))^(−1/α)` for `u`
-/// uniform in [0, 1).
+/// the draws, and the last fragment takes the rest (the fragment before it
+/// takes the rest instead where the rest is below `smallest`). Each draw
+/// inverts the law's distribution, written in ratios so that no power
+/// overflows however small `a` is against `b`: `L = a·(1 − u·(1 −
+/// (a/b)^α))^(−1/α)` for `u` uniform in [0, 1), at most `b`.
 pub fn power_law_halves(
     volume: f64,
     smallest: f64,
@@ -115,11 +147,11 @@ pub fn power_law_halves(
     rng: &mut Rng,
 ) -> Vec<f64> {
     let alpha = f64::from(exponent);
-    let (low, high) = (maths::pow(smallest, -alpha), maths::pow(largest, -alpha));
-    let mut halves = Vec::new();
+    let kept = 1.0 - maths::pow(smallest / largest, alpha);
+    let mut halves: Vec<f64> = Vec::new();
     let mut used = 0.0;
     while halves.len() + 1 < count.max(2) as usize {
-        let half = maths::pow(low - rng.unit() * (low - high), -1.0 / alpha);
+        let half = (smallest * maths::pow(1.0 - rng.unit() * kept, -1.0 / alpha)).min(largest);
         let cube = half * half * half;
         if used + cube >= volume {
             break;
@@ -127,7 +159,11 @@ pub fn power_law_halves(
         halves.push(half);
         used += cube;
     }
-    halves.push(maths::cbrt(volume - used));
+    let rest = volume - used;
+    match halves.last_mut() {
+        Some(last) if maths::cbrt(rest) < smallest => *last = maths::cbrt(*last * *last * *last + rest),
+        _ => halves.push(maths::cbrt(rest)),
+    }
     halves
 }
 
@@ -153,7 +189,8 @@ pub fn power_law_fragments(
         f64::from(min_size) / 2.0
     } else {
         largest / 100.0
-    };
+    }
+    .max(sound_floor(volume, f64::from(a.mass) + f64::from(b.mass)));
     lay_out(Parent::pair(a, b, spread, seed), first_id, |rng| {
         power_law_halves(volume, floor.min(largest), largest, count, exponent, rng)
     })
@@ -252,7 +289,8 @@ pub fn breakup_fragments(
                 f64::from(min_size) / 2.0
             } else {
                 largest / 100.0
-            };
+            }
+            .max(sound_floor(volume, f64::from(body.mass)));
             lay_out(parent, first_id, |rng| {
                 power_law_halves(volume, floor.min(largest), largest, count, exponent, rng)
             })

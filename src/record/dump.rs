@@ -1,13 +1,13 @@
 //! The CSV state dump of `kessler headless --dump` (docs/design.md,
 //! "Command line"): one row per body, sorted by id, floats in Rust's
-//! shortest round-trip form, then a comment line with the state's hash
-//! (docs/design.md, "State hash"). Written atomically with
+//! shortest round-trip form; every line a row of its header, so that any
+//! CSV reader reads it as it is (the state's hash is in the summary line and
+//! the timeline, docs/design.md, "State hash"). Written atomically with
 //! [`write_atomically`](crate::output::write_atomically).
 
 use std::io::{self, Write};
 
 use crate::components::BodyState;
-use crate::record::StateHash;
 
 /// One body's row: its columns (the header, a stable contract) and cells
 /// are declared together below.
@@ -29,20 +29,14 @@ crate::csv_row!(DumpRow<'_>, |row| {
     interacts: row.0.interacts,
 });
 
-/// Writes the header, one row per body (sorted by id) and, last, a
-/// comment line with `hash`, the state's hash (`# state hash
-/// 0123456789abcdef`), which readers skip as they skip every line that
-/// starts with `#`.
-pub fn write_csv(bodies: &[BodyState], hash: StateHash, mut out: impl Write) -> io::Result<()> {
+/// Writes the header and one row per body (sorted by id), refusing a
+/// state with a number that is not finite.
+pub fn write_csv(bodies: &[BodyState], mut out: impl Write) -> io::Result<()> {
     BodyState::check_all_finite(bodies)?;
     let rows: Vec<DumpRow<'_>> = bodies.iter().map(DumpRow).collect();
     crate::output::write_csv(&mut out, &rows)?;
-    writeln!(out, "{HASH_LINE}{hash}")?;
     out.flush()
 }
-
-/// How the dump's last line starts, before the hash.
-pub const HASH_LINE: &str = "# state hash ";
 
 #[cfg(test)]
 mod tests {
@@ -67,14 +61,11 @@ mod tests {
             absorbs: false,
         };
         let mut out = Vec::new();
-        write_csv(&[body], StateHash::of([body], 4), &mut out).unwrap();
+        write_csv(&[body], &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert_eq!(
             text,
-            format!(
-                "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts\n3,0.1,-2,0.0000001,0.81694555,0,-0,4000,430,430,430,SourceAndAdopter,false\n# state hash {}\n",
-                StateHash::of([body], 4)
-            )
+            "id,x,y,z,vx,vy,vz,mass,hx,hy,hz,role,interacts\n3,0.1,-2,0.0000001,0.81694555,0,-0,4000,430,430,430,SourceAndAdopter,false\n"
         );
         assert_eq!(
             header::<DumpRow<'_>>(),

@@ -4,5 +4,5 @@
 mod dump;
 mod state_hash;
 
-pub use dump::{DumpRow, HASH_LINE, write_csv};
+pub use dump::{DumpRow, write_csv};
 pub use state_hash::StateHash;

@@ -20,5 +20,6 @@ pub use memory_budget::{MemoryBudget, gigabytes};
 pub use setting_value::{SettingValue, problem};
 pub use settings::{
     Applies, MAX_BODIES, MAX_FRAGMENT_SPREAD, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_LENGTH, MAX_TIME_STEP,
-    SETTINGS, SettingInfo, SimulationSettings, check, read, setting, unknown_setting,
+    Override, Row, SETTINGS, SettingInfo, SimulationSettings, check, read, rows, setting, unknown_setting,
 };
+pub(crate) use settings::{held_by, key, physics_settings, pick_rows};

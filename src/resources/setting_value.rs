@@ -21,6 +21,15 @@ pub trait SettingValue: Copy + PartialEq + Debug + Serialize + for<'de> Deserial
     /// The value as a message shows it (`got …`).
     fn shown(&self) -> String;
 
+    /// What replaces this value, which breaks the rule `ok`, where a file
+    /// holds it and cannot be refused (the window's saved settings): the
+    /// allowed value nearest to it, where the type has an order that makes
+    /// one nearest, else `default`, which keeps the rule.
+    fn nearest_allowed(self, default: Self, ok: impl Fn(Self) -> bool) -> Self {
+        let _ = ok;
+        default
+    }
+
     /// Reads a value of this type and holds it to `ok`: ``field `NAME`:
     /// must be RULE, got VALUE`` where it fails, and the field named where
     /// the value is of the wrong type.
@@ -72,6 +81,26 @@ macro_rules! whole_setting {
 
             fn shown(&self) -> String {
                 self.to_string()
+            }
+
+            /// The allowed end of the rule's range on this value's side of
+            /// `default`, found by halving: a whole-number rule is one
+            /// range.
+            fn nearest_allowed(self, default: Self, ok: impl Fn(Self) -> bool) -> Self {
+                let (mut good, mut bad) = (default, self);
+                while good.abs_diff(bad) > 1 {
+                    let middle = if good < bad {
+                        good + (bad - good) / 2
+                    } else {
+                        bad + (good - bad) / 2
+                    };
+                    if ok(middle) {
+                        good = middle;
+                    } else {
+                        bad = middle;
+                    }
+                }
+                good
             }
         }
     )*};
@@ -233,6 +262,22 @@ pub fn problem<T: SettingValue>(value: T, rule: &str, ok: impl Fn(T) -> bool) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_whole_number_against_its_rule_is_replaced_by_the_nearest_allowed() {
+        let between = |lo: u32, hi: u32| move |v: u32| (lo..=hi).contains(&v);
+        assert_eq!(5000_u32.nearest_allowed(5, between(2, 1000)), 1000);
+        assert_eq!(u32::MAX.nearest_allowed(5, between(2, 1000)), 1000);
+        assert_eq!(0_u32.nearest_allowed(5, between(2, 1000)), 2);
+        assert_eq!(1_u32.nearest_allowed(5, between(2, 1000)), 2);
+        assert_eq!(0_u64.nearest_allowed(1_000_000, |v| (1..=20_000_000).contains(&v)), 1);
+        assert_eq!(
+            f32::NAN.nearest_allowed(0.2, |v: f32| (0.0..=10.0).contains(&v)),
+            0.2,
+            "no nearest: the default"
+        );
+        assert_eq!(11.0_f32.nearest_allowed(0.2, |v: f32| (0.0..=10.0).contains(&v)), 0.2);
+    }
 
     #[test]
     fn values_are_shown_as_a_file_writes_them() {

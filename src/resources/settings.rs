@@ -61,52 +61,57 @@ pub struct SettingInfo {
     pub rule: &'static str,
     /// When the window applies a change.
     pub applies: Applies,
+    /// Who else keeps a value of it: `window`, `bench`.
+    pub holders: &'static [&'static str],
 }
 
 /// The list. `$then!` is called with every setting, in file order, as
-/// `/// doc  field (as "key")?: Type = default, "rule", |v| ok, Applies;`.
+/// `/// doc  field (as "key")?: Type = default, "rule", |v| ok, Applies,
+/// [holders];`. The holders are who else keeps a value of the setting:
+/// `window` (the sandbox's saved settings and its panel) and `bench` (a
+/// benchmark run's own value); [`held_by!`] picks the rows of one.
 macro_rules! physics_settings {
-    ($then:ident) => {
-        $then! {
+    ([$($then:tt)*] $($args:tt)*) => {
+        $($then)*! { $($args)*
             /// `G`, the gravitational constant (the thesis: 6.674).
             gravitational_constant: f32 = 6.674,
-                "finite, from 0 to 1e6", |v| (0.0..=MAX_GRAVITATIONAL_CONSTANT).contains(&v), OnRestart;
+                "finite, from 0 to 1e6", |v| (0.0..=MAX_GRAVITATIONAL_CONSTANT).contains(&v), OnRestart, [];
             /// Simulated time per update, `dt`.
             time_step: f32 = 1.0,
-                "finite, > 0 and at most 1e3", |v| v > 0.0 && v <= MAX_TIME_STEP, OnRestart;
+                "finite, > 0 and at most 1e3", |v| v > 0.0 && v <= MAX_TIME_STEP, OnRestart, [];
             /// How an update moves the bodies: `Leapfrog` (drift–kick–drift, second order) or `SemiImplicitEuler` (the thesis: kick, then drift).
             integrator: Integrator = Integrator::Leapfrog,
-                "Leapfrog or SemiImplicitEuler", |_| true, Live;
+                "Leapfrog or SemiImplicitEuler", |_| true, Live, [window];
             /// Softening length `ε`: gravity uses `(r² + ε²)^{3/2}`; 0 means none.
             softening: f32 = 0.0,
-                "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v), OnRestart;
+                "finite, from 0 to 1e9", |v| (0.0..=MAX_LENGTH).contains(&v), OnRestart, [];
             /// How gravity is summed: `Auto` (direct below 512 sources, else the tree), `Direct`, or `Tree(theta: θ)` (Barnes–Hut).
             gravity_method as "gravity": GravityMethod = GravityMethod::Auto,
-                "Auto, Direct, or Tree(theta: θ) with θ finite from 0 to 2", |v: GravityMethod| v.check().is_ok(), Live;
+                "Auto, Direct, or Tree(theta: θ) with θ finite from 0 to 2", |v: GravityMethod| v.check().is_ok(), Live, [window];
             /// How collisions are found: `Swept` (along each body's path over the update, at the time the pair first touches) or `Discrete` (the thesis: where the update ends).
             collision_detection: CollisionDetection = CollisionDetection::Swept,
-                "Swept or Discrete", |_| true, Live;
+                "Swept or Discrete", |_| true, Live, [window];
             /// Impact speed (the size of `v1 − v2`) from which two interacting bodies shatter.
             shatter_threshold: f32 = 3.0,
-                "finite and >= 0", |v| v >= 0.0, Live;
+                "finite and >= 0", |v| v >= 0.0, Live, [window, bench];
             /// Fragments one shatter makes (with `PowerLaw` sizes, the most it makes).
             shatter_fragments: u32 = 5,
-                "between 2 and 1000", |v| (2..=MAX_FRAGMENTS).contains(&v), Live;
+                "between 2 and 1000", |v| (2..=MAX_FRAGMENTS).contains(&v), Live, [window, bench];
             /// How a shatter sizes its fragments: `Equal` cubes (the thesis), or `PowerLaw(exponent: α)`, edges from the NASA standard breakup model's `N(>L) ∝ L^−α` (1.71 for collisions, 1.6 for explosions).
             fragment_sizes: FragmentSizes = FragmentSizes::Equal,
-                "Equal, or PowerLaw(exponent: α) with α finite, > 0 and at most 10", |v: FragmentSizes| v.is_valid(), Live;
+                "Equal, or PowerLaw(exponent: α) with α finite, > 0 and at most 10", |v: FragmentSizes| v.is_valid(), Live, [window];
             /// Fragments' speed away from their center of mass, as a share of the impact speed (the thesis's "Streuung").
             fragment_spread: f32 = 0.2,
-                "finite and between 0 and 10", |v| (0.0..=MAX_FRAGMENT_SPREAD).contains(&v), Live;
+                "finite and between 0 and 10", |v| (0.0..=MAX_FRAGMENT_SPREAD).contains(&v), Live, [window];
             /// Edge length below which a collision bounces instead of making fragments; 0: no floor (the thesis).
             min_fragment_size: f32 = 1.0,
-                "finite and >= 0", |v| v >= 0.0, Live;
+                "finite and >= 0", |v| v >= 0.0, Live, [window];
             /// Most bodies there may be: a shatter that would exceed it bounces instead.
             max_bodies: u64 = 1_000_000,
-                "between 1 and 20000000", |v| (1..=MAX_BODIES).contains(&v), Live;
+                "between 1 and 20000000", |v| (1..=MAX_BODIES).contains(&v), Live, [window];
             /// Seed of every random choice: the generators and the fragments' spread.
             seed: u64 = 1,
-                "between 0 and 18446744073709551615", |_| true, OnRestart;
+                "between 0 and 18446744073709551615", |_| true, OnRestart, [window, bench];
         }
     };
 }
@@ -121,12 +126,112 @@ macro_rules! key {
     };
 }
 
+/// Calls `$then!` with the rows that `window` or `bench` holds, in file
+/// order, as `/// doc  field (as "key")?: Type = default, "rule", |v| ok,
+/// Applies;`. The rule's check is [`check`]`::field` wherever the row is
+/// used outside this file.
+macro_rules! held_by {
+    ($holder:ident $then:ident) => {
+        $crate::resources::physics_settings!([$crate::resources::pick_rows] ($holder $then) []);
+    };
+}
+
+/// [`held_by!`]'s row filter: `(holder then) [rows kept] rows to look at`.
+macro_rules! pick_rows {
+    (($holder:ident $then:ident) [$($kept:tt)*]) => {
+        $then! { $($kept)* }
+    };
+    ((window $then:ident) [$($kept:tt)*]
+        $(#[doc = $doc:literal])* $field:ident $(as $key:literal)?: $ty:ty = $default:expr,
+            $rule:literal, $ok:expr, $applies:ident, [window $(, $others:ident)*];
+        $($rest:tt)*
+    ) => {
+        $crate::resources::pick_rows! { (window $then) [$($kept)*
+            $(#[doc = $doc])* $field $(as $key)?: $ty = $default, $rule, $ok, $applies;
+        ] $($rest)* }
+    };
+    ((bench $then:ident) [$($kept:tt)*]
+        $(#[doc = $doc:literal])* $field:ident $(as $key:literal)?: $ty:ty = $default:expr,
+            $rule:literal, $ok:expr, $applies:ident, [$(window,)? bench];
+        $($rest:tt)*
+    ) => {
+        $crate::resources::pick_rows! { (bench $then) [$($kept)*
+            $(#[doc = $doc])* $field $(as $key)?: $ty = $default, $rule, $ok, $applies;
+        ] $($rest)* }
+    };
+    (($holder:ident $then:ident) [$($kept:tt)*]
+        $(#[doc = $doc:literal])* $field:ident $(as $key:literal)?: $ty:ty = $default:expr,
+            $rule:literal, $ok:expr, $applies:ident, [$($holders:ident),*];
+        $($rest:tt)*
+    ) => {
+        $crate::resources::pick_rows! { ($holder $then) [$($kept)*] $($rest)* }
+    };
+}
+
+pub(crate) use {held_by, key, physics_settings, pick_rows};
+
+/// A setting as a type: what reads its values by its rule. [`rows`] has
+/// one for each setting.
+pub trait Row {
+    /// The setting's type.
+    type Value: SettingValue;
+
+    /// Reads a value, checked by the setting's rule.
+    fn read<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Self::Value, D::Error>;
+}
+
+/// A setting a file may give to override another's value (a benchmark
+/// run's own seed, else the scenario's): absent (with `#[serde(default)]`)
+/// or the value written plainly, checked by the setting's rule.
+pub struct Override<R: Row>(pub Option<R::Value>);
+
+impl<R: Row> Override<R> {
+    /// `value` overridden, where a value is given.
+    pub fn over(&self, value: &mut R::Value) {
+        if let Some(given) = self.0 {
+            *value = given;
+        }
+    }
+}
+
+impl<R: Row> Default for Override<R> {
+    fn default() -> Self {
+        Self(None)
+    }
+}
+
+impl<R: Row> Clone for Override<R> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<R: Row> Copy for Override<R> {}
+
+impl<R: Row> PartialEq for Override<R> {
+    fn eq(&self, other: &Self) -> bool {
+        self.0 == other.0
+    }
+}
+
+impl<R: Row> std::fmt::Debug for Override<R> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl<'de, R: Row> serde::Deserialize<'de> for Override<R> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        R::read(d).map(|value| Self(Some(value)))
+    }
+}
+
 /// Everything derived from the list.
 macro_rules! derive_settings {
     ($(
         $(#[doc = $doc:literal])*
         $field:ident $(as $key:literal)?: $ty:ty = $default:expr,
-            $rule:literal, $ok:expr, $applies:ident;
+            $rule:literal, $ok:expr, $applies:ident, [$($holder:ident),*];
     )*) => {
         /// The physics of one simulation and its stage switches: set from
         /// the scenario, some changeable live (docs/design.md, "Physics
@@ -243,6 +348,7 @@ macro_rules! derive_settings {
             doc: concat!($($doc),*),
             rule: $rule,
             applies: Applies::$applies,
+            holders: &[$(stringify!($holder)),*],
         },)*];
 
         /// Each setting's rule as a check: `Err(must be RULE, got VALUE)`.
@@ -252,6 +358,25 @@ macro_rules! derive_settings {
                 #[doc = concat!("`", key!($field $($key)?), "`: ", $rule, ".")]
                 pub fn $field(value: $ty) -> Result<(), String> {
                     problem(value, $rule, $ok).map_or(Ok(()), Err)
+                }
+            )*
+        }
+
+        /// Each setting as a type (a [`Row`]), named after its field.
+        pub mod rows {
+            use super::*;
+
+            $(
+                #[doc = concat!("The setting `", key!($field $($key)?), "`.")]
+                #[expect(non_camel_case_types, reason = "named after the setting's field, as in `check` and `read`")]
+                pub struct $field;
+
+                impl Row for $field {
+                    type Value = $ty;
+
+                    fn read<'de, D: serde::Deserializer<'de>>(d: D) -> Result<$ty, D::Error> {
+                        read::$field(d)
+                    }
                 }
             )*
         }
@@ -326,7 +451,7 @@ macro_rules! derive_settings {
     };
 }
 
-physics_settings!(derive_settings);
+physics_settings!([derive_settings]);
 
 impl Default for SimulationSettings {
     fn default() -> Self {

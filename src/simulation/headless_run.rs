@@ -102,7 +102,7 @@ pub fn run_headless(
     // write it.
     sim.release_buffers();
     let hash = sim.state_hash_in_place();
-    write_outputs(&mut sim, scenario, updates, hash, (outputs, timeline.as_ref()))?;
+    write_outputs(&mut sim, scenario, updates, (outputs, timeline.as_ref()))?;
     Ok(HeadlessReport {
         updates,
         bodies: (bodies_start, sim.body_count()),
@@ -119,7 +119,6 @@ fn write_outputs(
     sim: &mut Simulation,
     scenario: &Scenario,
     updates: u64,
-    hash: StateHash,
     (outputs, timeline): (Outputs<'_>, Option<&Timeline>),
 ) -> Result<(), HeadlessError> {
     let bodies = if outputs.dump.is_some() || outputs.scenario.is_some() {
@@ -138,7 +137,7 @@ fn write_outputs(
     let failed = |flag: &str, e: WriteError| HeadlessError::Write(format!("{flag} {e}; no output was written"));
     let mut staged = Vec::new();
     if let Some(path) = outputs.dump {
-        staged.push(stage(path, |w| write_csv(&bodies, hash, w)).map_err(|e| failed("--dump", e))?);
+        staged.push(stage(path, |w| write_csv(&bodies, w)).map_err(|e| failed("--dump", e))?);
     }
     if let (Some((path, _)), Some(timeline)) = (outputs.timeline, timeline) {
         staged.push(stage(path, |w| timeline.write_csv(w)).map_err(|e| failed("--timeline", e))?);

@@ -9,7 +9,7 @@ use bevy::prelude::*;
 use crate::components::{BodyId, BodyState, BodyStateQuery, Immovable, spawn_states};
 use crate::maths;
 use crate::maths::Rng;
-use crate::physics::{box_volume, breakup_fragments, smallest_fragment_edge};
+use crate::physics::{LEAST_SOUND, box_volume, breakup_fragments, fragments_sound, smallest_fragment_edge};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::generators::{self, Obstacles};
 use crate::scenario::{Body, Breakup, Event, Fire, Generator, Spawn, Template};
@@ -185,8 +185,8 @@ fn random_direction(rng: &mut Rng) -> DVec3 {
 }
 
 /// A Breakup: the body replaced by its fragments, unless they would be
-/// below `min_fragment_size` or past `max_bodies` (as a shatter would be
-/// refused).
+/// below `min_fragment_size`, too light or small for a body, or past
+/// `max_bodies` (as a shatter would be refused).
 fn apply_breakup(world: &mut World, breakup: &Breakup) -> Result<(), String> {
     let (entity, body) = find(world, breakup.body)?;
     if !body.interacts {
@@ -197,11 +197,17 @@ fn apply_breakup(world: &mut World, breakup: &Breakup) -> Result<(), String> {
     }
     let settings = world.resource::<SimulationSettings>().clone();
     let sizes = breakup.sizes.unwrap_or(settings.fragment_sizes);
-    let edge = smallest_fragment_edge(box_volume(body.half_extents), sizes, breakup.fragments);
+    let volume = box_volume(body.half_extents);
+    let edge = smallest_fragment_edge(volume, sizes, breakup.fragments);
     if edge < f64::from(settings.min_fragment_size) {
         return Err(format!(
             "its fragments' edge, {edge:.3}, would be below `min_fragment_size` ({})",
             settings.min_fragment_size
+        ));
+    }
+    if !fragments_sound(volume, f64::from(body.mass), sizes, breakup.fragments) {
+        return Err(format!(
+            "its fragments would be lighter or smaller than a body may be (mass and half-edge at least {LEAST_SOUND:e})"
         ));
     }
     let first = world.resource::<NextBodyId>().0;

@@ -12,7 +12,7 @@ use bevy_egui::{EguiPlugin, EguiPrimaryContextPass};
 use super::draw::present_mode;
 use super::measure::{CapturePlugin, Film, FilmPlugin, GpuMemoryPlugin, ScriptedRun};
 use super::plugins::SandboxPlugins;
-use super::session::{OffscreenTarget, SandboxState, Start, WindowError, WindowOptions};
+use super::session::{OffscreenTarget, OutputFailures, SandboxState, Start, WindowError, WindowOptions};
 use super::sets::SandboxSystems;
 use super::tools::{ActionScript, DumpAtClose};
 use crate::systems::SimulationPlugins;
@@ -99,6 +99,8 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
     if let Some(path) = &options.dump {
         app.insert_resource(DumpAtClose(path.clone()));
     }
+    let failures = OutputFailures::default();
+    app.insert_resource(failures.clone());
     if let Some(dir) = &options.frames_out {
         app.add_plugins(FilmPlugin(Film::new(dir.clone(), options.every)));
     }
@@ -108,6 +110,7 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         app.add_plugins((GpuMemoryPlugin, CapturePlugin(run)));
     }
     match app.run() {
+        AppExit::Success if failures.count() > 0 => Err(WindowError::Outputs(failures.count())),
         AppExit::Success => Ok(()),
         AppExit::Error(code) => Err(WindowError::App(code.get())),
     }

@@ -6,12 +6,13 @@ use bevy::prelude::*;
 use super::contact::Outcome;
 use super::matching::{ContactQuery, Matched};
 use super::swept::{Meeting, contact_states};
-use crate::physics::{box_volume, smallest_fragment_edge};
+use crate::physics::{box_volume, fragments_sound, smallest_fragment_edge};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::systems::shatter::{PendingShatters, ShatterPair};
 
 /// The floor, the budget and the ids: turns the shatters that would make
-/// fragments below `min_fragment_size`, more bodies than `max_bodies`
+/// fragments below `min_fragment_size` or too light or small for a body
+/// ([`fragments_sound`]), more bodies than `max_bodies`
 /// (counting from `bodies`), or an id past [`MAX_ID`](crate::resources::MAX_ID) (counting from
 /// `next_id`) — in pair order, as the shatter stage hands ids out — into
 /// what the pair does when it may not shatter (a bounce: `unshattered`
@@ -35,7 +36,9 @@ pub fn refuse_shatters(
         }
         let volume = box_volume(a.half_extents) + box_volume(b.half_extents);
         let edge = smallest_fragment_edge(volume, settings.fragment_sizes, count);
+        let mass = f64::from(a.mass) + f64::from(b.mass);
         if edge < f64::from(settings.min_fragment_size)
+            || !fragments_sound(volume, mass, settings.fragment_sizes, count)
             || bodies + added > settings.max_bodies
             || !next_id.has_room_for(u64::from(count))
         {

@@ -11,9 +11,9 @@ use bevy::prelude::*;
 use bevy::render::view::screenshot::ScreenshotCaptured;
 
 use super::capture::{READY_TIMEOUT, ScriptedRun};
-use super::picture::{save_png, screenshot_of};
+use super::picture::{save_new_png, screenshot_of};
 use super::pipelines::PipelinesSettled;
-use crate::ui::session::{OffscreenTarget, UpdateClock, frame_path};
+use crate::ui::session::{OffscreenTarget, OutputFailures, UpdateClock, frame_path};
 
 /// Where a film goes and how far it is.
 #[derive(Resource, Clone, Debug)]
@@ -70,7 +70,9 @@ pub struct FilmPlugin(pub Film);
 
 impl Plugin for FilmPlugin {
     fn build(&self, app: &mut App) {
-        app.insert_resource(self.0.clone()).add_systems(Last, take_picture);
+        app.insert_resource(self.0.clone())
+            .init_resource::<OutputFailures>()
+            .add_systems(Last, take_picture);
     }
 }
 
@@ -85,6 +87,7 @@ fn take_picture(
     target: Option<Res<OffscreenTarget>>,
     run: Option<Res<ScriptedRun>>,
     settled: Res<PipelinesSettled>,
+    failures: Res<OutputFailures>,
 ) {
     let multiple = clock.updates_total / film.every;
     if film.last == Some(multiple) {
@@ -101,11 +104,12 @@ fn take_picture(
     film.last = Some(multiple);
     film.taken += 1;
     let path = frame_path(&film.dir, film.taken);
+    let failures = failures.clone();
     commands
         .spawn(screenshot_of(target.as_deref()))
         .observe(move |captured: On<ScreenshotCaptured>| {
-            if let Err(e) = save_png(&captured.image, &path) {
-                eprintln!("kessler: error: {}: cannot save a film's picture: {e}", path.display());
+            if let Err(e) = save_new_png(&captured.image, &path) {
+                failures.failed(format_args!("{}: cannot save a film's picture: {e}", path.display()));
             }
         });
 }

@@ -7,6 +7,7 @@
 
 pub mod drive;
 pub mod offscreen;
+mod output_failures;
 pub mod sandbox_settings;
 pub mod scene;
 pub mod settings_file;
@@ -17,6 +18,7 @@ mod window_options;
 
 pub use drive::DrivePlugin;
 pub use offscreen::{OFFSCREEN_SIZE, OffscreenTarget, frame_path};
+pub use output_failures::OutputFailures;
 pub use sandbox_settings::{
     CameraMode, FRAGMENT_SPREAD_RANGE, MAX_BODIES_RANGE, MAX_BODY_COUNT, MIN_FRAGMENT_SIZE_RANGE,
     SHATTER_FRAGMENTS_RANGE, SPEED_RANGE, SandboxSettings, TRAIL_COUNT_RANGE, TrailChoice, UPS_RANGE, max_threads,

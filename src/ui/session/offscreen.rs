@@ -27,5 +27,8 @@ impl OffscreenTarget {
 /// The `number`th picture of a film in `dir`: `frame-000001.png`, … (the
 /// names ffmpeg's `-i frame-%06d.png` reads in order).
 pub fn frame_path(dir: &std::path::Path, number: u64) -> std::path::PathBuf {
-    dir.join(format!("frame-{number:06}.png"))
+    dir.join(format!("{}{number:06}.{}", FRAME_NAMES.0, FRAME_NAMES.1))
 }
+
+/// How a film's pictures are named: their prefix and extension.
+pub const FRAME_NAMES: (&str, &str) = ("frame-", "png");

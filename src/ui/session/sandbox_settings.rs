@@ -11,7 +11,7 @@ use crate::input::ExecutionOptions;
 use crate::resources::DrawMethod;
 use crate::resources::{
     Applies, CollisionDetection, FragmentSizes, GravityMethod, Integrator, MAX_BODIES, MAX_FRAGMENT_SPREAD,
-    MAX_FRAGMENTS, SETTINGS, SimulationSettings, check,
+    MAX_FRAGMENTS, SettingValue, SimulationSettings, check,
 };
 
 /// Slowest and fastest target update rate, updates per second.
@@ -37,27 +37,6 @@ pub const TRAIL_COUNT_RANGE: std::ops::RangeInclusive<u32> = 1..=200;
 /// `a to b`, as a warning names an allowed range.
 fn range_text<T: std::fmt::Debug>(range: &std::ops::RangeInclusive<T>) -> String {
     format!("{:?} to {:?}", range.start(), range.end())
-}
-
-/// The physics settings the panel holds, each a field of the same name in
-/// [`SandboxSettings`] and [`SimulationSettings`] (the settings list gives
-/// its rule and whether it applies live), with what replaces a value a
-/// settings file holds against the rule: `$then!` is called with them.
-macro_rules! panel_physics {
-    ($then:ident) => {
-        $then! {
-            gravity_method => |_| SimulationSettings::DEFAULT.gravity_method,
-            integrator => |_| SimulationSettings::DEFAULT.integrator,
-            collision_detection => |_| SimulationSettings::DEFAULT.collision_detection,
-            seed => |_| SimulationSettings::DEFAULT.seed,
-            shatter_fragments => |n| clamped(n, &SHATTER_FRAGMENTS_RANGE).unwrap_or(SimulationSettings::DEFAULT.shatter_fragments),
-            fragment_sizes => |_| SimulationSettings::DEFAULT.fragment_sizes,
-            shatter_threshold => |_| SimulationSettings::DEFAULT.shatter_threshold,
-            fragment_spread => |_| SimulationSettings::DEFAULT.fragment_spread,
-            min_fragment_size => |_| SimulationSettings::DEFAULT.min_fragment_size,
-            max_bodies => |n| clamped(n, &MAX_BODIES_RANGE).unwrap_or(SimulationSettings::DEFAULT.max_bodies),
-        }
-    };
 }
 
 /// Which bodies besides the selected one draw their recent path.
@@ -117,77 +96,187 @@ impl CameraMode {
     }
 }
 
-/// Everything the panel sets. Fields missing from a settings file take their
-/// default, so files written by older versions still load.
-#[derive(Resource, Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct SandboxSettings {
-    /// Sequential or parallel stages (live).
-    pub mode: ExecutionMode,
-    /// Worker threads in parallel mode (live).
-    pub threads: usize,
-    /// From which body count stages split their work in parallel mode
-    /// (live).
-    pub split: SplitPolicy,
-    /// Which pool runs the parallel steps (live): Kessler's own or Bevy's
-    /// `ComputeTaskPool`.
-    pub pool: WorkerPool,
-    /// Wait for the display's refresh (live); off draws as fast as
-    /// possible, as the thesis measured.
-    pub vsync: bool,
-    /// Draw the bodies at all (live).
-    pub render_bodies: bool,
-    /// Color cubes by state: colliding, fragment, speed (live).
-    pub visual_effects: bool,
-    /// Broad phase on/off (live).
-    pub collisions: bool,
-    /// Bounce and shatter on/off (live; the thesis's "collision effects",
-    /// which older settings files call it).
-    #[serde(alias = "collision_effects")]
-    pub collision_response: bool,
-    /// Gravity on/off (live).
-    pub gravity: bool,
-    /// Direct sum, Barnes–Hut tree, or `Auto` by the number of sources
-    /// (live).
-    pub gravity_method: GravityMethod,
-    /// Leapfrog or the thesis's semi-implicit Euler (live).
-    pub integrator: Integrator,
-    /// Swept or the thesis's discrete collision detection (live).
-    pub collision_detection: CollisionDetection,
-    /// Target simulation updates per second, 1–600 (live).
-    pub updates_per_second: u32,
-    /// Factor on the update rate (live).
-    pub speed: f32,
-    /// Generated bodies; `None` keeps the scenario's count (on restart).
-    pub body_count: Option<u64>,
-    /// Seed of the generators and of fragment spread (on restart).
-    pub seed: u64,
-    /// Fragments per shatter, ≥ 2 (live; with power-law sizes, the most).
-    pub shatter_fragments: u32,
-    /// How a shatter sizes its fragments (live).
-    pub fragment_sizes: FragmentSizes,
-    /// Impact speed from which bodies shatter (live).
-    pub shatter_threshold: f32,
-    /// Fragments' spread as a share of the impact speed, 0–10 (live; the
-    /// thesis's "Streuung").
-    pub fragment_spread: f32,
-    /// Edge below which a collision bounces instead of shattering (live).
-    pub min_fragment_size: f32,
-    /// Most bodies; a shatter beyond bounces instead (live).
-    pub max_bodies: u64,
-    /// Scenario file; `None` is the built-in debris field (on restart).
-    pub scenario: Option<PathBuf>,
-    /// Camera (live).
-    pub camera: CameraMode,
-    /// Drawing method (live).
-    pub render_method: DrawMethod,
-    /// Show the planet's collision box (live).
-    pub show_collision_boxes: bool,
-    /// Trails besides the selected body's (live).
-    pub trails: TrailChoice,
-    /// How many bodies [`Self::trails`] picks, in [`TRAIL_COUNT_RANGE`] (live).
-    pub trail_count: u32,
+/// In `$this`, takes every field named in which `$now` differs from
+/// `$start`, pushing its name onto `$taken`. Every field must be named: a
+/// new one fails to compile.
+macro_rules! take_changed {
+    ($this:ident, $start:ident, $now:ident, $taken:ident; $($name:ident),* $(,)?) => {
+        let SandboxSettings { $($name: _),* } = $now;
+        $(
+            if $now.$name != $start.$name {
+                $this.$name = $now.$name.clone();
+                $taken.push(stringify!($name));
+            }
+        )*
+    };
 }
+
+/// Declares [`SandboxSettings`] with a field for each physics setting the
+/// window holds (`[window]` in the settings list), named, documented and
+/// defaulted as the list says, and the code that moves those fields between
+/// the window and the simulation.
+macro_rules! declare_sandbox_settings {
+    ($(
+        $(#[doc = $doc:literal])* $field:ident $(as $key:literal)?: $ty:ty = $default:expr,
+            $rule:literal, $ok:expr, $applies:ident;
+    )*) => {
+        /// Everything the panel sets. Fields missing from a settings file
+        /// take their default, so files written by older versions still
+        /// load. The physics settings are named as their fields
+        /// ([`SimulationSettings`]) are, which is the name in files except
+        /// for `gravity_method` (`gravity` in scenarios).
+        #[derive(Resource, Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[serde(default, deny_unknown_fields)]
+        pub struct SandboxSettings {
+            /// Sequential or parallel stages (live).
+            pub mode: ExecutionMode,
+            /// Worker threads in parallel mode (live).
+            pub threads: usize,
+            /// From which body count stages split their work in parallel
+            /// mode (live).
+            pub split: SplitPolicy,
+            /// Which pool runs the parallel steps (live): Kessler's own or
+            /// Bevy's `ComputeTaskPool`.
+            pub pool: WorkerPool,
+            /// Wait for the display's refresh (live); off draws as fast as
+            /// possible, as the thesis measured.
+            pub vsync: bool,
+            /// Draw the bodies at all (live).
+            pub render_bodies: bool,
+            /// Color cubes by state: colliding, fragment, speed (live).
+            pub visual_effects: bool,
+            /// Broad phase on/off (live).
+            pub collisions: bool,
+            /// Bounce and shatter on/off (live; the thesis's "collision
+            /// effects", which older settings files call it).
+            #[serde(alias = "collision_effects")]
+            pub collision_response: bool,
+            /// Gravity on/off (live).
+            pub gravity: bool,
+            $(
+                $(#[doc = $doc])*
+                #[doc = concat!("(The window applies it: `", stringify!($applies), "`.)")]
+                pub $field: $ty,
+            )*
+            /// Target simulation updates per second, 1–600 (live).
+            pub updates_per_second: u32,
+            /// Factor on the update rate (live).
+            pub speed: f32,
+            /// Generated bodies; `None` keeps the scenario's count (on
+            /// restart).
+            pub body_count: Option<u64>,
+            /// Scenario file; `None` is the built-in debris field (on
+            /// restart).
+            pub scenario: Option<PathBuf>,
+            /// Camera (live).
+            pub camera: CameraMode,
+            /// Drawing method (live).
+            pub render_method: DrawMethod,
+            /// Show the planet's collision box (live).
+            pub show_collision_boxes: bool,
+            /// Trails besides the selected body's (live).
+            pub trails: TrailChoice,
+            /// How many bodies [`Self::trails`] picks, in
+            /// [`TRAIL_COUNT_RANGE`] (live).
+            pub trail_count: u32,
+        }
+
+        impl Default for SandboxSettings {
+            fn default() -> Self {
+                Self {
+                    mode: ExecutionMode::Parallel,
+                    threads: available_threads(),
+                    split: SplitPolicy::Auto,
+                    pool: WorkerPool::Kessler,
+                    vsync: true,
+                    render_bodies: true,
+                    visual_effects: true,
+                    collisions: true,
+                    collision_response: true,
+                    gravity: true,
+                    $($field: SimulationSettings::DEFAULT.$field,)*
+                    updates_per_second: 60,
+                    speed: 1.0,
+                    body_count: None,
+                    scenario: None,
+                    camera: CameraMode::Orbit,
+                    render_method: DrawMethod::Instanced,
+                    show_collision_boxes: false,
+                    trails: TrailChoice::Off,
+                    trail_count: 20,
+                }
+            }
+        }
+
+        impl SandboxSettings {
+            /// Takes into `self` every field in which `now` differs from
+            /// `start`, keeping its own value for the rest; returns the
+            /// names of the fields taken. Saving uses it with the file's own
+            /// values as `self`, the settings in force at start (after the
+            /// command line's one-run choices) as `start` and the settings
+            /// at exit as `now`: only what the user changed during the
+            /// session reaches the file.
+            pub fn take_changes(&mut self, start: &Self, now: &Self) -> Vec<&'static str> {
+                let mut taken = Vec::new();
+                take_changed!(self, start, now, taken;
+                    mode, threads, split, pool, vsync, render_bodies, visual_effects, collisions,
+                    collision_response, gravity, $($field,)* updates_per_second, speed, body_count,
+                    scenario, camera, render_method, show_collision_boxes, trails, trail_count,
+                );
+                taken
+            }
+
+            /// The physics settings held to the settings list's rules: a
+            /// value against its rule is replaced by the nearest allowed
+            /// one, or the default.
+            fn fix_physics(&mut self, fixes: &mut Fixes) {
+                $(
+                    fixes.check(stringify!($field), &mut self.$field, $rule, |&v| {
+                        let ok = |v| check::$field(v).is_ok();
+                        (!ok(v)).then(|| v.nearest_allowed(SimulationSettings::DEFAULT.$field, ok))
+                    });
+                )*
+            }
+
+            /// The panel's values in `base`: its physics settings and stage
+            /// switches.
+            fn physics_over(&self, base: &SimulationSettings) -> SimulationSettings {
+                SimulationSettings {
+                    $($field: self.$field,)*
+                    gravity: self.gravity,
+                    collisions: self.collisions,
+                    collision_response: self.collision_response,
+                    ..base.clone()
+                }
+            }
+
+            /// The physics settings the panel holds that apply on restart
+            /// and differ between `self` and `built`, by their names in
+            /// files.
+            pub fn restart_physics_changed(&self, built: &Self) -> Vec<&'static str> {
+                let mut changed = Vec::new();
+                $(
+                    if self.$field != built.$field && Applies::$applies == Applies::OnRestart {
+                        changed.push(crate::resources::key!($field $($key)?));
+                    }
+                )*
+                changed
+            }
+
+            /// Takes `physics`' values of the physics settings the panel
+            /// holds: those the window applies live, or all.
+            fn adopt(&mut self, physics: &SimulationSettings, live_only: bool) {
+                $(
+                    if !live_only || Applies::$applies == Applies::Live {
+                        self.$field = physics.$field;
+                    }
+                )*
+            }
+        }
+    };
+}
+
+crate::resources::held_by!(window declare_sandbox_settings);
 
 impl SandboxSettings {
     /// How the simulation executes, every option given.
@@ -206,43 +295,6 @@ impl SandboxSettings {
         self.threads = options.threads.unwrap_or(self.threads);
         self.split = options.split.unwrap_or(self.split);
         self.pool = options.pool.unwrap_or(self.pool);
-    }
-}
-
-impl Default for SandboxSettings {
-    fn default() -> Self {
-        let physics = SimulationSettings::default();
-        Self {
-            mode: ExecutionMode::Parallel,
-            threads: available_threads(),
-            split: SplitPolicy::Auto,
-            pool: WorkerPool::Kessler,
-            vsync: true,
-            render_bodies: true,
-            visual_effects: true,
-            collisions: true,
-            collision_response: true,
-            gravity: true,
-            gravity_method: physics.gravity_method,
-            integrator: physics.integrator,
-            collision_detection: physics.collision_detection,
-            updates_per_second: 60,
-            speed: 1.0,
-            body_count: None,
-            seed: physics.seed,
-            shatter_fragments: physics.shatter_fragments,
-            fragment_sizes: physics.fragment_sizes,
-            shatter_threshold: physics.shatter_threshold,
-            fragment_spread: physics.fragment_spread,
-            min_fragment_size: physics.min_fragment_size,
-            max_bodies: physics.max_bodies,
-            scenario: None,
-            camera: CameraMode::Orbit,
-            render_method: DrawMethod::Instanced,
-            show_collision_boxes: false,
-            trails: TrailChoice::Off,
-            trail_count: 20,
-        }
     }
 }
 
@@ -369,87 +421,6 @@ impl SandboxSettings {
         fixes.0
     }
 
-    /// The panel's physics settings held to the settings list's rules.
-    fn fix_physics(&mut self, fixes: &mut Fixes) {
-        macro_rules! fix {
-            ($($field:ident => $fix:expr,)*) => {$(
-                let rule = SETTINGS.iter().find(|s| s.field == stringify!($field)).map_or("", |s| s.rule);
-                fixes.check(stringify!($field), &mut self.$field, rule, |&v| {
-                    check::$field(v).is_err().then(|| $fix(v))
-                });
-            )*};
-        }
-        panel_physics!(fix);
-    }
-
-    /// Takes into `self` every field in which `now` differs from `start`,
-    /// keeping its own value for the rest; returns the names of the fields
-    /// taken. Saving uses it with the file's own values as `self`, the
-    /// settings in force at start (after the command line's one-run
-    /// choices) as `start` and the settings at exit as `now`: only what the
-    /// user changed during the session reaches the file.
-    pub fn take_changes(&mut self, start: &Self, now: &Self) -> Vec<&'static str> {
-        let mut taken = Vec::new();
-        macro_rules! take {
-            ($($field:ident),* $(,)?) => {
-                // Every field must be listed: a new one fails to compile here.
-                let Self { $($field: _),* } = now;
-                $(
-                    if now.$field != start.$field {
-                        self.$field = now.$field.clone();
-                        taken.push(stringify!($field));
-                    }
-                )*
-            };
-        }
-        take!(
-            mode,
-            threads,
-            split,
-            pool,
-            vsync,
-            render_bodies,
-            visual_effects,
-            collisions,
-            collision_response,
-            gravity,
-            gravity_method,
-            integrator,
-            collision_detection,
-            updates_per_second,
-            speed,
-            body_count,
-            seed,
-            shatter_fragments,
-            fragment_sizes,
-            shatter_threshold,
-            fragment_spread,
-            min_fragment_size,
-            max_bodies,
-            scenario,
-            camera,
-            render_method,
-            show_collision_boxes,
-            trails,
-            trail_count,
-        );
-        taken
-    }
-
-    /// The panel's values in `base`: its physics settings and stage
-    /// switches.
-    fn physics_over(&self, base: &SimulationSettings) -> SimulationSettings {
-        let mut panel = base.clone();
-        macro_rules! take {
-            ($($field:ident => $fix:expr,)*) => {$(panel.$field = self.$field;)*};
-        }
-        panel_physics!(take);
-        panel.gravity = self.gravity;
-        panel.collisions = self.collisions;
-        panel.collision_response = self.collision_response;
-        panel
-    }
-
     /// Copies the live physics settings and the stage switches into the
     /// simulation's settings.
     pub fn apply_physics(&self, physics: &mut SimulationSettings) {
@@ -466,50 +437,43 @@ impl SandboxSettings {
         self.physics_over(scenario)
     }
 
-    /// The physics settings the panel holds that apply on restart and
-    /// differ between `self` and `built`, by their names in files.
-    pub fn restart_physics_changed(&self, built: &Self) -> Vec<&'static str> {
-        let mut changed = Vec::new();
-        macro_rules! compare {
-            ($($field:ident => $fix:expr,)*) => {$(
-                let row = SETTINGS.iter().find(|s| s.field == stringify!($field));
-                if self.$field != built.$field && row.is_some_and(|s| s.applies == Applies::OnRestart) {
-                    changed.extend(row.map(|s| s.key));
-                }
-            )*};
-        }
-        panel_physics!(compare);
-        changed
-    }
-
     /// Takes the running simulation's values of the live physics settings
-    /// (after a `Set` event or a rewind changed them), where they differ.
+    /// (after a `Set` event or a rewind changed them).
     pub fn adopt_live(&mut self, physics: &SimulationSettings) {
-        let mut taken = self.physics_over(physics);
-        taken.take_live(physics);
-        macro_rules! adopt {
-            ($($field:ident => $fix:expr,)*) => {$(
-                if self.$field != taken.$field {
-                    self.$field = taken.$field;
-                }
-            )*};
-        }
-        panel_physics!(adopt);
+        self.adopt(physics, true);
     }
 
     /// Takes a freshly loaded scenario's own values of the physics
     /// settings the panel holds.
     pub fn adopt_scenario(&mut self, physics: &SimulationSettings) {
-        macro_rules! adopt {
-            ($($field:ident => $fix:expr,)*) => {$(self.$field = physics.$field;)*};
-        }
-        panel_physics!(adopt);
+        self.adopt(physics, false);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_window_holds_the_settings_the_list_gives_it_and_no_others() {
+        let file = ron::ser::to_string(&SandboxSettings::default()).unwrap();
+        for row in crate::resources::SETTINGS {
+            let held = file.contains(&format!("{}:", row.field));
+            assert_eq!(held, row.holders.contains(&"window"), "{}: {file}", row.field);
+        }
+        // The window's defaults are the list's, and what it does not hold
+        // comes from the scenario.
+        assert_eq!(
+            SandboxSettings::default().physics_over(&SimulationSettings::DEFAULT),
+            SimulationSettings::DEFAULT
+        );
+        let scenario = SimulationSettings {
+            time_step: 0.5,
+            softening: 2.0,
+            ..SimulationSettings::DEFAULT
+        };
+        assert_eq!(SandboxSettings::default().physics_over(&scenario), scenario);
+    }
 
     #[test]
     fn camera_key_cycles_through_all_cameras() {
@@ -559,8 +523,8 @@ mod tests {
             [
                 "threads",
                 "updates_per_second",
-                "shatter_fragments",
-                "shatter_threshold"
+                "shatter_threshold",
+                "shatter_fragments"
             ]
         );
         assert_eq!(settings.threads, max_threads());
@@ -580,7 +544,7 @@ mod tests {
             "{text}"
         );
         assert_eq!(
-            fixes[3].to_string(),
+            fixes[2].to_string(),
             format!(
                 "shatter_threshold -1.0 is out of range (finite and >= 0), using {:?}",
                 SimulationSettings::default().shatter_threshold
@@ -601,7 +565,7 @@ mod tests {
             "body_count Some(2000001) is out of range (None or Some(0 to 2000000)), using Some(2000000)".to_owned(),
             format!(
                 "gravity_method Tree(theta: NaN) is out of range ({}), using Auto",
-                SETTINGS.iter().find(|s| s.key == "gravity").unwrap().rule
+                crate::resources::setting("gravity").unwrap().rule
             ),
         ] {
             assert!(texts.contains(&said), "{said:?} not in {texts:?}");

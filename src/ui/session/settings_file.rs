@@ -23,7 +23,7 @@ use ron::extensions::Extensions;
 
 use super::sandbox_settings::SandboxSettings;
 use crate::input::{parse_ron, read_text_if_present};
-use crate::output::{WriteError, write_atomically};
+use crate::output::{WriteError, through_link, write_atomically};
 
 /// The settings file, what it holds, what was in force at start, and any
 /// warning about it.
@@ -121,17 +121,7 @@ pub fn save_settings(path: &Path, settings: &SandboxSettings) -> Result<(), Writ
     // A link (a dotfiles setup) is written through, to the file it names;
     // anything else that is not a regular file (a FIFO, a device) is left
     // alone.
-    let target = match path.symlink_metadata() {
-        Ok(m) if m.file_type().is_symlink() => {
-            let named = std::fs::read_link(path).map_err(|source| WriteError {
-                path: path.to_owned(),
-                source,
-            })?;
-            // A relative link is relative to the link's folder.
-            path.parent().unwrap_or(Path::new("")).join(named)
-        }
-        _ => path.to_owned(),
-    };
+    let target = through_link(path)?;
     if let Ok(m) = target.metadata()
         && !m.is_file()
     {

@@ -7,7 +7,7 @@ use super::sandbox_settings::SandboxSettings;
 use super::settings_file::{SettingsFile, default_settings_path};
 use super::window_options::{WindowError, WindowOptions};
 use crate::input::default_calibration_path;
-use crate::output::{Output, check_extension, check_not_inputs, check_outputs};
+use crate::output::{Output, check_extension, check_not_inputs, check_outputs, check_series_folder};
 use crate::scenario::Scenario;
 
 /// What the window starts with.
@@ -122,19 +122,18 @@ fn check_outputs_of(options: &WindowOptions) -> Result<(), WindowError> {
     if let Some(path) = &options.dump {
         outputs.push(Output::replacing("--dump", path));
     }
-    // A film never overwrites one: its first picture must be new.
-    let first_frame = options
-        .frames_out
-        .as_deref()
-        .map(|dir| super::offscreen::frame_path(dir, 1));
-    if let Some(path) = &first_frame {
-        outputs.push(Output::new_only(
-            "--frames-out",
-            path,
-            "films never overwrite, choose an empty folder",
-        ));
-    }
     check_outputs(&outputs, &inputs)?;
+    // A film never overwrites one: its folder holds no picture yet, and is
+    // made where it does not exist. Last, so that nothing is made for a
+    // run refused for another reason.
+    if let Some(dir) = &options.frames_out {
+        check_series_folder(
+            "--frames-out",
+            dir,
+            super::offscreen::FRAME_NAMES,
+            "films never overwrite, choose a folder without frame-*.png pictures",
+        )?;
+    }
     Ok(())
 }
 

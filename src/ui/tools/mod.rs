@@ -114,6 +114,7 @@ impl Plugin for ToolsPlugin {
                     .after(SandboxSystems::BuildScene)
                     .before(SandboxSystems::Tools),
             )
+            .init_resource::<crate::ui::session::OutputFailures>()
             .add_systems(Last, dump_at_close.run_if(resource_exists::<DumpAtClose>));
     }
 }

@@ -16,6 +16,7 @@ use crate::record::StateHash;
 use crate::resources::NextBodyId;
 use crate::systems::SimulationFault;
 use crate::ui::measure::FrameStats;
+use crate::ui::session::OutputFailures;
 
 /// One scripted action.
 #[derive(Clone, Debug, Deserialize)]
@@ -65,6 +66,7 @@ pub fn dump_at_close(
     fault: Res<SimulationFault>,
     next_id: Res<NextBodyId>,
     bodies: Query<BodyStateQuery>,
+    failures: Res<OutputFailures>,
 ) {
     if exits.read().next().is_none() {
         return;
@@ -72,12 +74,12 @@ pub fn dump_at_close(
     let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
     states.sort_unstable_by_key(|b| b.id);
     let hash = StateHash::of_slice(&states, next_id.0);
-    match write_atomically(&dump.0, |w| crate::record::write_csv(&states, hash, w)) {
+    match write_atomically(&dump.0, |w| crate::record::write_csv(&states, w)) {
         Ok(()) => println!(
             "kessler: closed after {} updates of the scene; state hash {hash}; state written to {}",
             fault.updates,
             dump.0.display()
         ),
-        Err(e) => eprintln!("kessler: error: --dump {e}"),
+        Err(e) => failures.failed(format_args!("--dump {e}")),
     }
 }
