@@ -660,3 +660,130 @@ fn aggregate_replaces_only_regular_files() {
     }
     assert!(!tmp.path().join("elsewhere.svg").exists(), "written through the link");
 }
+
+/// A finished member whose files were damaged afterwards is found and run
+/// again, bit-equal to an undamaged run: its timeline cut short, deleted,
+/// made a FIFO or given a NaN, its folder made a file. `status` names each,
+/// `aggregate` leaves them out saying what runs them, and the resume puts
+/// every member back as it was.
+#[cfg(unix)]
+#[test]
+fn damaged_members_are_found_and_run_again_bit_equal() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "small.ron", SMALL);
+    let (clean, out) = (tmp.path().join("clean"), tmp.path().join("damaged"));
+    for dir in [&clean, &out] {
+        let run = ensemble(&cfg, dir, &[]);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    }
+    let timeline = |i: u64| out.join(format!("members/{i}/timeline.csv"));
+    let text = read(timeline(0));
+    let first_rows: Vec<&str> = text.lines().take(4).collect();
+    std::fs::write(timeline(0), first_rows.join("\n") + "\n").unwrap();
+    std::fs::remove_file(timeline(1)).unwrap();
+    std::fs::remove_file(timeline(2)).unwrap();
+    assert!(isolated("mkfifo").arg(timeline(2)).status().unwrap().success());
+    let text = read(timeline(3));
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    let mut cells: Vec<&str> = lines[2].split(',').collect();
+    cells[1] = "NaN";
+    lines[2] = cells.join(",");
+    std::fs::write(timeline(3), lines.join("\n") + "\n").unwrap();
+    std::fs::remove_dir_all(out.join("members/4")).unwrap();
+    std::fs::write(out.join("members/4"), "not a folder").unwrap();
+
+    let status = kessler().args(["ensemble", "status"]).arg(&out).output().unwrap();
+    let said = String::from_utf8_lossy(&status.stdout);
+    assert!(said.contains("1 done, 4 failed, 1 missing of 6 members"), "{said}");
+    for what in [
+        "rows, not the",
+        "timeline.csv is missing",
+        "a FIFO",
+        "`NaN` is not a finite number",
+    ] {
+        assert!(said.contains(what), "{what} not in {said}");
+    }
+    let summed = kessler().args(["ensemble", "aggregate"]).arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&summed.stderr);
+    assert!(summed.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("5 member(s) left out") && stderr.contains("--out"),
+        "{stderr}"
+    );
+
+    let resumed = ensemble(&cfg, &out, &[]);
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    assert!(resumed.status.success(), "{stderr}");
+    assert!(stderr.contains("5 to run"), "{stderr}");
+    for index in 0..6 {
+        assert_eq!(results(&out, index), results(&clean, index), "member {index}");
+    }
+    assert_eq!(read(out.join("aggregate.csv")), read(clean.join("aggregate.csv")));
+}
+
+/// The local executor's members end with it however it ends: SIGTERM is
+/// taken as Ctrl-C is (the running member ended, its folder removed), and
+/// after SIGKILL the kernel ends them (none goes on writing); a resume
+/// after either is the uninterrupted run.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_executors_members_end_with_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "slow.ron", SLOW);
+    let straight = tmp.path().join("straight");
+    let ok = ensemble(&cfg, &straight, &[]);
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    for name in ["TERM", "KILL"] {
+        let out = std::path::absolute(tmp.path().join(name)).unwrap();
+        let executor = start_ensemble(&cfg, &out);
+        let mut pid = None;
+        wait_until("member 1 to run", || {
+            pid = member_pid(&out, 1);
+            pid.is_some()
+        });
+        signal(executor.id(), name);
+        let ended = executor.wait_with_output().unwrap();
+        if name == "TERM" {
+            assert_eq!(
+                ended.status.code(),
+                Some(130),
+                "{}",
+                String::from_utf8_lossy(&ended.stderr)
+            );
+        }
+        wait_until("member 1 to end", || {
+            std::fs::read_to_string(format!("/proc/{}/cmdline", pid.unwrap())).map_or(true, |c| c.is_empty())
+        });
+        assert!(!out.join("members/1/done").exists(), "{name}: member 1 went on");
+        let resumed = ensemble(&cfg, &out, &[]);
+        assert!(
+            resumed.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&resumed.stderr)
+        );
+        for index in 0..3 {
+            assert_eq!(
+                results(&out, index),
+                results(&straight, index),
+                "{name}: member {index}"
+            );
+        }
+    }
+}
+
+/// Messages that say what was meant: a file given where an ensemble's
+/// folder goes, a subcommand misspelt (once taken for the config, with
+/// clap's complaint about what followed it).
+#[test]
+fn a_file_for_a_folder_and_a_misspelt_subcommand_are_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = config(tmp.path(), "small.ron", SMALL);
+    let status = kessler().args(["ensemble", "status"]).arg(&file).output().unwrap();
+    assert_eq!(status.status.code(), Some(2));
+    assert_one_clear_line(&status.stderr, &["is a file, not an ensemble's folder", "--out DIR"]);
+    for (typo, meant) in [("stauts", "status"), ("agregate", "aggregate")] {
+        let out = kessler().args(["ensemble", typo]).arg(tmp.path()).output().unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        assert_one_clear_line(&out.stderr, &[&format!("did you mean `kessler ensemble {meant}`?")]);
+    }
+}

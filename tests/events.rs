@@ -339,3 +339,98 @@ fn the_asat_scene_s_interceptor_hits_its_satellite() {
     assert!(!rows.iter().any(|r| r.id == 1), "{summary}");
     assert!(rows.len() > 3001 + 10, "{summary}");
 }
+
+/// A `Spawn` is held to what the scenario's own bodies are: a body that
+/// would start inside a planet (which a file's `bodies` may not hold) is
+/// not made; the event is skipped and named, the run goes on.
+#[test]
+fn a_spawn_inside_a_planet_is_skipped_and_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(
+        dir.path(),
+        "inside.ron",
+        &scene("Spawn(update: 4, bodies: [Body(position: (0, 30, 0))])"),
+    );
+    let (summary, stderr, rows) = headless(&file, 6, &[]);
+    assert_eq!(rows.len(), 6, "{summary}");
+    assert!(
+        stderr.contains("events[0] (Spawn at update 4) was skipped: bodies[0] would start inside body 0"),
+        "{stderr}"
+    );
+}
+
+/// A snapshot is the run it was saved from, its events to come included:
+/// a shell to come orbits the same body after the bodies before it are
+/// gone (`around` names a place in the file's `bodies`, which the snapshot
+/// renumbers), and events the run will skip for certain (their body gone)
+/// are left out, so the snapshot loads and its continuation is the
+/// straight run's.
+#[test]
+fn a_snapshot_keeps_its_events_to_come_as_the_run_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let planets = "bodies: [
+        Body(position: (0, 900, 0)),
+        Body(position: (0, 0, 0), shape: Sphere(radius: 100), mass: 4000, role: Source, interacts: false),
+        Body(position: (3000, 0, 0), shape: Sphere(radius: 50), mass: 400, role: Source, interacts: false),
+    ]";
+    for (name, events, at, left_out) in [
+        (
+            "shell",
+            "Remove(update: 2, body: 0), Spawn(update: 10, generators: [Shell(count: 20, around: 1, inner_radius: 300, outer_radius: 400)])",
+            5,
+            false,
+        ),
+        (
+            "fire",
+            "Remove(update: 1, body: 0), Fire(update: 5, target: 0, speed: 5, distance: 30)",
+            3,
+            true,
+        ),
+        (
+            "planet_breakup",
+            "Spawn(update: 1, bodies: [Body(position: (0, 600, 0), role: Source, interacts: false)]), Breakup(update: 6, body: 3, fragments: 4, speed: 1)",
+            4,
+            true,
+        ),
+    ] {
+        let file = write(
+            dir.path(),
+            &format!("{name}.ron"),
+            &format!("Scenario({planets}, events: [{events}])"),
+        );
+        let (_, _, straight) = headless(&file, 12, &[]);
+        let snapshot = dir.path().join(format!("{name}-at-{at}.ron"));
+        headless(&file, at, &["--save-scenario", snapshot.to_str().unwrap()]);
+        let validated = kessler().arg("validate").arg(&snapshot).output().unwrap();
+        assert!(
+            validated.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&validated.stderr)
+        );
+        let text = std::fs::read_to_string(&snapshot).unwrap();
+        assert_eq!(text.contains("left out"), left_out, "{name}: {text}");
+        let (_, _, continued) = headless(&snapshot, 12 - at, &[]);
+        assert_eq!(continued, straight, "{name}: continued from update {at}");
+    }
+}
+
+/// A session whose tools acted at update 0 (the window paused at its
+/// start) replays with `--steps 0` to the window's state: the events due
+/// at update 0 apply before a run of no updates ends, as they do when a
+/// tool acts.
+#[test]
+fn a_session_of_tools_at_update_zero_replays_with_no_updates() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = Scenario::parse(&scene("Remove(update: 0, body: 3)"), "zero.ron").unwrap();
+    let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
+    let mut live = Simulation::from_scenario(&scenario, execution).unwrap();
+    live.record_event(Event::Remove(Remove { update: 0, body: 4 }));
+    let mut text = Vec::new();
+    write_session(&live.session(&scenario), 0, &mut text).unwrap();
+    let file = write(dir.path(), "session.ron", &String::from_utf8(text).unwrap());
+    let (_, _, rows) = headless(&file, 0, &[]);
+    let ids: Vec<u64> = rows.iter().map(|r| r.id).collect();
+    let live_ids: Vec<u64> = live.snapshot().iter().map(|b| b.id.0).collect();
+    assert_eq!(ids, live_ids);
+    assert_eq!(ids, [0, 1, 2, 5]);
+}

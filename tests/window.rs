@@ -732,6 +732,78 @@ fn a_session_of_tool_actions_replays_headless_to_the_windows_state() {
     assert!(shot.exists());
 }
 
+/// Every way a body enters the world passes the same checks: tool actions
+/// that a scenario file could not hold (a launch of bodies without mass or
+/// size, a shot backwards, a breakup into one fragment, a planet's
+/// breakup, a launch past the body budget) are refused and not recorded,
+/// so the session saved after them is one `validate` accepts and holds
+/// only the launch that was allowed.
+#[test]
+fn tool_actions_are_held_to_the_files_rules_and_refusals_are_not_recorded() {
+    if !window_available("tool_actions_are_held_to_the_files_rules_and_refusals_are_not_recorded") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("planet.ron");
+    std::fs::write(
+        &scenario,
+        "Scenario(bodies: [
+            Body(position: (0, 0, 0), shape: Sphere(radius: 430), mass: 4000, role: Source, interacts: false),
+            Body(position: (700, 0, 0), velocity: (0, 0, 2)),
+        ])",
+    )
+    .unwrap();
+    let (session, actions) = (dir.path().join("session.ron"), dir.path().join("actions.ron"));
+    std::fs::write(
+        &actions,
+        format!(
+            "[
+                (frame: 3, action: Launch(altitude: 150, inclination: 0, count: 4, half_size: 2, mass: 0)),
+                (frame: 3, action: Launch(altitude: 150, inclination: 0, count: 4, half_size: 0, mass: 1)),
+                (frame: 3, action: Launch(altitude: 150, inclination: 0, count: 4294967295, half_size: 1, mass: 1)),
+                (frame: 3, action: Launch(altitude: 1e38, inclination: 0, count: 2, half_size: 1, mass: 1)),
+                (frame: 4, action: Select(1)),
+                (frame: 4, action: Fire(speed: -5, distance: 30, from_camera: false)),
+                (frame: 4, action: Fire(speed: 5, distance: 0, from_camera: false)),
+                (frame: 4, action: Breakup(fragments: 1, speed: 1)),
+                (frame: 4, action: Breakup(fragments: 5000, speed: 1)),
+                (frame: 5, action: Select(0)),
+                (frame: 5, action: Breakup(fragments: 5, speed: 1)),
+                (frame: 6, action: Launch(altitude: 150, inclination: 0, count: 3, half_size: 1, mass: 1)),
+                (frame: 8, action: SaveSession({:?})),
+            ]",
+            session.display().to_string()
+        ),
+    )
+    .unwrap();
+    let (_, _, stderr) = run_window(
+        dir.path(),
+        "refused",
+        "(updates_per_second: 60)",
+        &["--actions", actions.to_str().unwrap(), scenario.to_str().unwrap()],
+    );
+    for problem in [
+        "`bodies[0].mass`",
+        "`bodies[0].half_extents`",
+        "`max_bodies`",
+        "`speed`",
+        "`distance`",
+        "`fragments`",
+        "does not interact",
+    ] {
+        assert!(stderr.contains(problem), "{problem} not said:\n{stderr}");
+    }
+    let text = std::fs::read_to_string(&session).expect("the session was saved");
+    assert_eq!(text.matches("Spawn(").count(), 1, "{text}");
+    assert!(!text.contains("Fire(") && !text.contains("Breakup("), "{text}");
+    let validated = kessler().arg("validate").arg(&session).output().unwrap();
+    assert!(
+        validated.status.success(),
+        "{}",
+        String::from_utf8_lossy(&validated.stderr)
+    );
+}
+
 /// A tool's effect shows in the next drawn frame, even while paused: a
 /// ring launched in the frame before the screenshot changes the picture
 /// of the same paused scene without it.
@@ -927,4 +999,29 @@ fn an_offscreen_render_run_needs_no_display() {
     let rows = std::fs::read_to_string(dir.path().join("offscreen-render.csv")).unwrap();
     assert_eq!(rows.lines().count(), 2, "{rows}");
     assert!(rows.contains(",instanced,"), "{rows}");
+}
+
+/// A bad action script is one line of error, exit 2, before anything of
+/// the window starts (no renderer's log around it).
+#[test]
+fn a_bad_action_script_is_refused_before_the_window_starts() {
+    if !window_available("a_bad_action_script_is_refused_before_the_window_starts") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let actions = dir.path().join("actions.ron");
+    std::fs::write(
+        &actions,
+        "[(frame: 1, action: Launch(altitude: 1, inclination: 0, count: -1, half_size: 1, mass: 1))]",
+    )
+    .unwrap();
+    let out = under_xvfb()
+        .args(["run", "--frames", "5", "--actions"])
+        .arg(&actions)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "not one line: {stderr}");
+    assert!(stderr.contains("actions.ron"), "{stderr}");
 }

@@ -16,7 +16,9 @@ pub fn ensemble(args: &EnsembleArgs) -> Result<(), Failure> {
         Some(EnsembleAction::Status { dir }) => status(dir),
         Some(EnsembleAction::Aggregate { dir }) => {
             let (folder, record) = EnsembleFolder::open(dir)?;
-            sum_up(&folder, &record, &folder.census(record.config.total_members()))
+            let census = folder.checked_census(&record.config);
+            left_out(&folder, &record, &census);
+            sum_up(&folder, &record, &census)
         }
         Some(EnsembleAction::Member { dir, index }) => member(dir, *index),
         None => {
@@ -117,7 +119,7 @@ fn run(args: &EnsembleArgs, config: &Path, out: &Path) -> Result<(), Failure> {
 /// After the members ran: the aggregate, then a failure if any member
 /// failed (or is still missing).
 fn finish(folder: &EnsembleFolder, record: &Record) -> Result<(), Failure> {
-    let census = folder.census(record.config.total_members());
+    let census = folder.checked_census(&record.config);
     if !census.done.is_empty() {
         sum_up(folder, record, &census)?;
     }
@@ -127,13 +129,18 @@ fn finish(folder: &EnsembleFolder, record: &Record) -> Result<(), Failure> {
     Err(Failure::from(EnsembleError::Failed(unfinished(folder, &census))))
 }
 
-/// Why not every member is done, in one line.
-fn unfinished(folder: &EnsembleFolder, census: &Census) -> String {
-    let first = census
+/// `; member I failed: WHY` for the first member that failed, if any.
+fn first_failed(census: &Census) -> String {
+    census
         .failed
         .first()
         .map(|(index, why)| format!("; member {index} failed: {why}"))
-        .unwrap_or_default();
+        .unwrap_or_default()
+}
+
+/// Why not every member is done, in one line.
+fn unfinished(folder: &EnsembleFolder, census: &Census) -> String {
+    let first = first_failed(census);
     format!(
         "{}: {}{first}; run the same command again to run the failed and missing members",
         folder.root().display(),
@@ -169,10 +176,30 @@ fn sum_up(folder: &EnsembleFolder, record: &Record, census: &Census) -> Result<(
     Ok(())
 }
 
+/// Says which members `ensemble aggregate` leaves out (failed, damaged or
+/// missing) and what runs them.
+fn left_out(folder: &EnsembleFolder, record: &Record, census: &Census) {
+    let out = census.failed.len() + census.missing.len();
+    if out == 0 {
+        return;
+    }
+    let first = first_failed(census);
+    eprintln!(
+        "kessler: warning: {}",
+        printable(&format!(
+            "{}: {out} member(s) left out of the aggregate ({}){first}; `kessler ensemble {} --out {}` runs them",
+            folder.root().display(),
+            census.line(),
+            record.source,
+            folder.root().display()
+        ))
+    );
+}
+
 /// `kessler ensemble status DIR`.
 fn status(dir: &Path) -> Result<(), Failure> {
     let (folder, record) = EnsembleFolder::open(dir)?;
-    let census = folder.census(record.config.total_members());
+    let census = folder.checked_census(&record.config);
     println!(
         "{}",
         printable(&format!("{}: {}", folder.root().display(), census.line()))

@@ -2,13 +2,14 @@
 
 use std::process::ExitCode;
 
-use clap::Parser;
 use clap::error::ErrorKind;
+use clap::{Parser, Subcommand};
 
 use crate::output::printable;
 
 use super::{
-    Cli, Command, EXIT_BAD_INPUT, Failure, RunArgs, bench, calibrate, ensemble, headless, pairs, validate, window,
+    Cli, Command, EXIT_BAD_INPUT, EnsembleAction, Failure, RunArgs, bench, calibrate, ensemble, headless, pairs,
+    validate, window,
 };
 
 /// Entry point of the binary.
@@ -20,7 +21,8 @@ pub fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         Err(e) => {
-            eprintln!("kessler: error: {}", one_line(&e.render().to_string()));
+            let message = misspelt_subcommand().unwrap_or_else(|| one_line(&e.render().to_string()));
+            eprintln!("kessler: error: {message}");
             return ExitCode::from(EXIT_BAD_INPUT);
         }
     };
@@ -31,6 +33,28 @@ pub fn main() -> ExitCode {
             ExitCode::from(f.code)
         }
     }
+}
+
+/// Where the command line did not parse: a word after `ensemble` that is
+/// no file but nearly one of its subcommands (`kessler ensemble stauts
+/// DIR`), which clap takes for the config and then complains about what
+/// follows it.
+fn misspelt_subcommand() -> Option<String> {
+    let args: Vec<String> = std::env::args().skip(1).take(2).collect();
+    let [command, word] = args.as_slice() else {
+        return None;
+    };
+    if command != "ensemble" || std::path::Path::new(word).exists() {
+        return None;
+    }
+    let subcommands = EnsembleAction::augment_subcommands(clap::Command::new("ensemble"));
+    let name = subcommands
+        .get_subcommands()
+        .map(clap::Command::get_name)
+        .find(|name| name != word && crate::input::nearly(word, name))?;
+    Some(printable(&format!(
+        "`{word}` is neither a config file nor a subcommand of `ensemble`: did you mean `kessler ensemble {name}`?"
+    )))
 }
 
 /// clap's error folded into one line: the problem and the hints, without

@@ -118,8 +118,9 @@ pub fn read_series(folder: &EnsembleFolder, index: u64) -> Result<Series, InputE
             .unwrap_or_default()
             .iter()
             .map(|cell| {
-                cell.parse::<f64>()
-                    .map_err(|_| InputError::new(&origin, format!("column `{name}`: `{cell}` is not a number")))
+                cell.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
+                    InputError::new(&origin, format!("column `{name}`: `{cell}` is not a finite number"))
+                })
             })
             .collect()
     };

@@ -16,12 +16,15 @@
 
 use std::path::{Path, PathBuf};
 
+use rayon::prelude::*;
 use ron::extensions::Extensions;
 use serde::{Deserialize, Serialize};
 
 use super::config::EnsembleConfig;
 use crate::input::{InputError, node_kind, parse_ron, read_text};
+use crate::output::CsvTable;
 use crate::output::{OutputError, OutputProblem, WriteError, probe, write_atomically};
+use crate::simulation::{TimelineRow, row_updates};
 
 /// What `DIR/ensemble.ron` holds.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -280,10 +283,18 @@ impl EnsembleFolder {
     pub fn open(dir: &Path) -> Result<(Self, Record), InputError> {
         let folder = Self::at(dir);
         if !dir.is_dir() {
-            return Err(InputError::new(
-                dir.display().to_string(),
-                "is not an ensemble's folder (no such folder)",
-            ));
+            let problem = match dir.symlink_metadata() {
+                Ok(found) if found.is_file() => {
+                    "is a file, not an ensemble's folder; give the folder `kessler ensemble CONFIG --out DIR` made"
+                        .to_owned()
+                }
+                Ok(found) => format!(
+                    "is {}, not an ensemble's folder; give the folder `kessler ensemble CONFIG --out DIR` made",
+                    crate::input::node_kind(found.file_type())
+                ),
+                Err(_) => "is not an ensemble's folder (no such folder)".to_owned(),
+            };
+            return Err(InputError::new(dir.display().to_string(), problem));
         }
         if !folder.record_path().is_file() {
             return Err(InputError::new(
@@ -362,6 +373,71 @@ impl EnsembleFolder {
             }
         }
         census
+    }
+
+    /// Where each member of `config` stands, as [`Self::census`] says,
+    /// with every done member's results checked ([`Self::check_done`]):
+    /// one whose files were damaged after it finished counts as failed,
+    /// saying what is wrong, and so runs again on resume.
+    pub fn checked_census(&self, config: &EnsembleConfig) -> Census {
+        let mut census = self.census(config.total_members());
+        let checks: Vec<(u64, Result<(), String>)> = census
+            .done
+            .par_iter()
+            .map(|&index| (index, self.check_done(index, config)))
+            .collect();
+        census.done.clear();
+        for (index, check) in checks {
+            match check {
+                Ok(()) => census.done.push(index),
+                Err(why) => census.failed.push((
+                    index,
+                    format!("its results were damaged after it finished: {why}; it runs again"),
+                )),
+            }
+        }
+        census.failed.sort_unstable();
+        census
+    }
+
+    /// Whether done member `index`'s results are whole: its summary and
+    /// timeline regular files, the timeline a row at every update a
+    /// finished member of `config` records one at, each number finite.
+    pub fn check_done(&self, index: u64, config: &EnsembleConfig) -> Result<(), String> {
+        for path in [self.timeline(index), self.summary(index)] {
+            let name = path
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            match path.symlink_metadata() {
+                Ok(found) if found.is_file() => {}
+                Ok(found) => return Err(format!("{name} is {}", node_kind(found.file_type()))),
+                Err(_) => return Err(format!("{name} is missing")),
+            }
+        }
+        let text = read_text(&self.timeline(index)).map_err(|e| e.message)?;
+        let table = CsvTable::parse::<TimelineRow>(&text).map_err(|e| format!("timeline.csv: {e}"))?;
+        let expected = row_updates(config.steps, config.every);
+        let updates = table.column("update").unwrap_or_default();
+        let whole = updates.len() == expected.len()
+            && updates
+                .iter()
+                .zip(&expected)
+                .all(|(cell, u)| cell.parse::<u64>().ok() == Some(*u));
+        if !whole {
+            return Err(format!(
+                "timeline.csv has {} rows, not the {} of a finished member",
+                updates.len(),
+                expected.len()
+            ));
+        }
+        for (r, row) in table.rows().iter().enumerate() {
+            // Every column but the last, the state's hash, is a number.
+            let numbers = &row[..row.len().saturating_sub(1)];
+            if let Some(cell) = numbers.iter().find(|c| !c.parse::<f64>().is_ok_and(f64::is_finite)) {
+                return Err(format!("timeline.csv row {}: `{cell}` is not a finite number", r + 1));
+            }
+        }
+        Ok(())
     }
 }
 

@@ -6,7 +6,10 @@
 //! unfinished folders removed, the finished ones kept.
 //!
 //! Members run in a process group of their own, so that Ctrl-C in the
-//! terminal reaches this process alone, which then ends them itself.
+//! terminal reaches this process alone, which then ends them itself; a
+//! SIGTERM or SIGHUP is taken as Ctrl-C is. Should the executor die without
+//! a word (SIGKILL), the kernel ends its members too (Linux's parent-death
+//! signal), so that none goes on writing into a folder a resume uses.
 
 use std::os::unix::process::{CommandExt as _, ExitStatusExt as _};
 use std::path::Path;
@@ -115,7 +118,8 @@ fn spawn(folder: &EnsembleFolder, exe: &Path, index: u64) -> Result<Child, Ensem
         path: log.clone(),
         source,
     })?;
-    Command::new(exe)
+    let mut command = Command::new(exe);
+    command
         .arg("ensemble")
         .arg("member")
         .arg(folder.root())
@@ -123,7 +127,10 @@ fn spawn(folder: &EnsembleFolder, exe: &Path, index: u64) -> Result<Child, Ensem
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(stderr)
-        .process_group(0)
+        .process_group(0);
+    #[cfg(target_os = "linux")]
+    end_with_this_process(&mut command);
+    command
         .spawn()
         .map_err(|e| EnsembleError::Failed(format!("member {index}: {} could not start: {e}", exe.display())))
 }
@@ -155,4 +162,29 @@ fn settle(folder: &EnsembleFolder, index: u64, status: ExitStatus) -> Result<(),
     let _ = std::fs::create_dir_all(folder.member_dir(index));
     let _ = write_atomically(&folder.failed_marker(index), |w| writeln!(w, "{why}"));
     Err(why)
+}
+
+/// Has the member `command` starts killed when this process dies, however
+/// it dies (`PR_SET_PDEATHSIG`). The signal follows the thread that spawns
+/// the member: the executor spawns from the command's own thread, which
+/// lives as long as the process.
+#[cfg(target_os = "linux")]
+fn end_with_this_process(command: &mut Command) {
+    let executor = libc::pid_t::try_from(std::process::id()).unwrap_or(0);
+    #[expect(
+        unsafe_code,
+        reason = "prctl and getppid between fork and exec, both async-signal-safe"
+    )]
+    unsafe {
+        command.pre_exec(move || {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL as libc::c_ulong, 0, 0, 0) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            // The executor died before the prctl: end now.
+            if libc::getppid() != executor {
+                return Err(std::io::Error::from_raw_os_error(libc::ESRCH));
+            }
+            Ok(())
+        });
+    }
 }

@@ -81,14 +81,18 @@ pub fn run_member(folder: &EnsembleFolder, record: &Record, index: u64) -> Resul
             total - 1
         )));
     }
-    // Whatever an earlier, unfinished run of this member left goes first.
+    // Whatever an earlier, unfinished (or damaged) run of this member left
+    // goes first, folder or not.
     let dir = folder.member_dir(index);
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir).map_err(|source| WriteError {
-            path: dir.clone(),
-            source,
-        })?;
-    }
+    let cleared = match dir.symlink_metadata() {
+        Ok(found) if found.is_dir() => std::fs::remove_dir_all(&dir),
+        Ok(_) => std::fs::remove_file(&dir),
+        Err(_) => Ok(()),
+    };
+    cleared.map_err(|source| WriteError {
+        path: dir.clone(),
+        source,
+    })?;
     std::fs::create_dir_all(&dir).map_err(|source| WriteError {
         path: dir.clone(),
         source,

@@ -91,7 +91,7 @@ pub fn start(config_path: &Path, out: &Path) -> Result<Started, EnsembleError> {
         }
         None => folder.write_record(&record, &text)?,
     }
-    let census = folder.census(record.config.total_members());
+    let census = folder.checked_census(&existing.as_ref().unwrap_or(&record).config);
     Ok(Started {
         // The folder's own record: its source names the config that
         // started it.

@@ -6,6 +6,7 @@ pub(crate) mod execution_options;
 mod limits;
 mod read_file;
 mod ron_text;
+mod spelling;
 mod user_files;
 mod value_checks;
 
@@ -19,6 +20,7 @@ pub use limits::{
 pub(crate) use read_file::make_fifo;
 pub use read_file::{MAX_INPUT_BYTES, load_ron, node_kind, read_text, read_text_if_present};
 pub use ron_text::parse_ron;
+pub use spelling::nearly;
 pub use user_files::{default_calibration_path, default_settings_path};
 pub use value_checks::{
     FieldName, body_count, f32_where, read, shown_number, vec3_where, whole, whole_at_least, whole_between,

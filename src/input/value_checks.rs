@@ -89,17 +89,70 @@ pub fn vec3_where<'de, D: Deserializer<'de>>(
     }
 }
 
+/// A number as a file writes it, read whatever its kind, so that a whole
+/// number's reader can name the value it refuses: RON reads `1.5` as a
+/// whole number `1` followed by `.5`, which the struct around it then
+/// refuses as "Expected comma".
+enum Written {
+    /// A whole number of at least 0 that a `u64` holds.
+    Whole(u64),
+    /// Anything else that is a number (a fraction, a negative number, one
+    /// too large), as the file wrote it.
+    Other(String),
+}
+
+impl<'de> Deserialize<'de> for Written {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Number;
+        impl Visitor<'_> for Number {
+            type Value = Written;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a number")
+            }
+
+            fn visit_u64<E: Error>(self, v: u64) -> Result<Written, E> {
+                Ok(Written::Whole(v))
+            }
+
+            fn visit_i64<E: Error>(self, v: i64) -> Result<Written, E> {
+                Ok(u64::try_from(v).map_or_else(|_| Written::Other(v.to_string()), Written::Whole))
+            }
+
+            fn visit_u128<E: Error>(self, v: u128) -> Result<Written, E> {
+                Ok(u64::try_from(v).map_or_else(|_| Written::Other(v.to_string()), Written::Whole))
+            }
+
+            fn visit_i128<E: Error>(self, v: i128) -> Result<Written, E> {
+                Ok(u64::try_from(v).map_or_else(|_| Written::Other(v.to_string()), Written::Whole))
+            }
+
+            fn visit_f64<E: Error>(self, v: f64) -> Result<Written, E> {
+                Ok(Written::Other(shown_number(v)))
+            }
+        }
+        d.deserialize_any(Number)
+    }
+}
+
 /// A whole number, with the rule it must follow said if the value is not
-/// one of its type (negative, too large, not a number).
-pub fn whole<'de, T: Deserialize<'de>, D: Deserializer<'de>>(d: D, field: &str, rule: &str) -> Result<T, D::Error> {
-    T::deserialize(d).map_err(|e| D::Error::custom(format!("field `{field}`: must be a whole number {rule} ({e})")))
+/// one of its type (a fraction, negative, too large, not a number).
+pub fn whole<'de, T: TryFrom<u64>, D: Deserializer<'de>>(d: D, field: &str, rule: &str) -> Result<T, D::Error> {
+    let not_whole =
+        |got: &dyn Display| D::Error::custom(format!("field `{field}`: must be a whole number {rule}, got {got}"));
+    match Written::deserialize(d)
+        .map_err(|e| D::Error::custom(format!("field `{field}`: must be a whole number {rule} ({e})")))?
+    {
+        Written::Whole(n) => T::try_from(n).map_err(|_| not_whole(&n)),
+        Written::Other(text) => Err(not_whole(&text)),
+    }
 }
 
 /// A whole number from `min` to `max`.
 pub fn whole_between<'de, D, T>(d: D, field: &str, min: T, max: T) -> Result<T, D::Error>
 where
     D: Deserializer<'de>,
-    T: Deserialize<'de> + PartialOrd + Display,
+    T: TryFrom<u64> + PartialOrd + Display,
 {
     let rule = format!("between {min} and {max}");
     let value: T = whole(d, field, &rule)?;
@@ -116,7 +169,7 @@ where
 pub fn whole_at_least<'de, D, T>(d: D, field: &str, min: T) -> Result<T, D::Error>
 where
     D: Deserializer<'de>,
-    T: Deserialize<'de> + PartialOrd + Display,
+    T: TryFrom<u64> + PartialOrd + Display,
 {
     let rule = format!("at least {min}");
     let value: T = whole(d, field, &rule)?;

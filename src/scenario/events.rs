@@ -5,7 +5,7 @@
 
 use std::fmt;
 
-use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
@@ -39,11 +39,19 @@ pub struct Spawn {
     #[serde(deserialize_with = "field_checks::update")]
     pub update: u64,
     /// Explicit bodies (without `id`: they get fresh ones, in order).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(
+        default,
+        deserialize_with = "super::listed::bodies",
+        skip_serializing_if = "Vec::is_empty"
+    )]
     pub bodies: Vec<Body>,
     /// Seeded random bodies; a `Shell`'s `around` is an index into the
     /// scenario's `bodies`, orbited where that body is at the event.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(
+        default,
+        deserialize_with = "super::listed::generators",
+        skip_serializing_if = "Vec::is_empty"
+    )]
     pub generators: Vec<Generator>,
 }
 
@@ -152,6 +160,20 @@ impl Set {
 }
 
 impl Event {
+    /// Holds the event to the rules an event of a scenario file follows,
+    /// by writing it as a file would and reading it back with the file's
+    /// own readers: what a tool or an action script records is then what a
+    /// file may hold, so every way a body enters the world passes the same
+    /// checks (docs/design.md, "Events"). The problem as a file's would be
+    /// said.
+    pub fn check(&self) -> Result<(), String> {
+        let text =
+            ron::ser::to_string_pretty(self, super::ron_form::layout().depth_limit(0)).map_err(|e| e.to_string())?;
+        crate::input::parse_ron::<Self>(&text, "", super::ron_form::EXTENSIONS)
+            .map(drop)
+            .map_err(|e| e.message)
+    }
+
     /// Updates run before it happens.
     pub fn update(&self) -> u64 {
         match self {
@@ -281,43 +303,6 @@ impl Serialize for Set {
             s.serialize_field(key, &Value(&self.values, key))?;
         }
         s.end()
-    }
-}
-
-/// A scenario's `events`, read so that an error names the event:
-/// ``field `events[2].speed`: …``.
-pub struct EventList(pub Vec<Event>);
-
-impl<'de> Deserialize<'de> for EventList {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct ListVisitor;
-        impl<'de> Visitor<'de> for ListVisitor {
-            type Value = EventList;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("a list of events: Spawn(...), Fire(...), Breakup(...), Remove(...), Set(...)")
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<EventList, A::Error> {
-                let mut events = Vec::new();
-                loop {
-                    let i = events.len();
-                    match seq.next_element::<Event>() {
-                        Ok(Some(event)) => events.push(event),
-                        Ok(None) => return Ok(EventList(events)),
-                        Err(e) => return Err(de::Error::custom(within(&format!("events[{i}]"), &e.to_string()))),
-                    }
-                }
-            }
-        }
-        d.deserialize_seq(ListVisitor)
-    }
-}
-
-/// `message` (``field `speed`: …`` or anything else) as said of the field
-/// or list item `place`: ``field `place.speed`: …``, ``field `place`: …``.
-pub fn within(place: &str, message: &str) -> String {
-    match message.strip_prefix("field `") {
-        Some(rest) => format!("field `{place}.{rest}"),
-        None => format!("field `{place}`: {message}"),
     }
 }
 

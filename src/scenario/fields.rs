@@ -12,8 +12,8 @@ use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use super::contents::Scenario;
-use super::events::EventList;
 use super::field_checks;
+use super::listed::Listed;
 use crate::input::FieldName;
 use crate::resources::{SETTINGS, unknown_setting};
 
@@ -49,9 +49,9 @@ impl<'de> Deserialize<'de> for Scenario {
                     match key.as_str() {
                         "name" => scenario.name = map.next_value::<Name>()?.0,
                         "next_id" => scenario.next_id = map.next_value::<NextId>()?.0,
-                        "bodies" => scenario.bodies = map.next_value()?,
-                        "generators" => scenario.generators = map.next_value()?,
-                        "events" => scenario.events = map.next_value::<EventList>()?.0,
+                        "bodies" => scenario.bodies = map.next_value_seed(Listed::new("bodies"))?,
+                        "generators" => scenario.generators = map.next_value_seed(Listed::new("generators"))?,
+                        "events" => scenario.events = map.next_value_seed(Listed::new("events"))?,
                         other => {
                             if !scenario.physics.read_field(other, &mut map)? {
                                 return Err(unknown_setting(other, &OWN));

@@ -4,7 +4,6 @@
 use std::path::Path;
 
 use bevy::math::DVec3;
-use ron::extensions::Extensions;
 
 use super::contents::Scenario;
 use super::field_checks::{MAX_BODIES, MAX_ID};
@@ -20,11 +19,7 @@ impl Scenario {
     /// Parses RON text; `origin` names it in errors (usually the path) and
     /// becomes [`Scenario::origin`].
     pub fn parse(text: &str, origin: &str) -> Result<Self, InputError> {
-        let mut scenario: Self = parse_ron(
-            text,
-            origin,
-            Extensions::UNWRAP_VARIANT_NEWTYPES | Extensions::IMPLICIT_SOME,
-        )?;
+        let mut scenario: Self = parse_ron(text, origin, super::ron_form::EXTENSIONS)?;
         scenario.origin = origin.to_owned();
         scenario.check()?;
         Ok(scenario)
@@ -394,11 +389,11 @@ mod tests {
             ),
             (
                 "Body(position: (0, 0, 0), shape: Sphere(radius: -4), interacts: false)",
-                "`radius`",
+                "`bodies[0].radius`",
             ),
             (
                 "Body(position: (0, 0, 0), shape: Sphere(radius: inf), interacts: false)",
-                "`radius`",
+                "`bodies[0].radius`",
             ),
             (
                 "Body(position: (0, 0, 0), shape: Ball(radius: 4), interacts: false)",
@@ -420,7 +415,7 @@ mod tests {
         .unwrap_err();
         assert_eq!(e.location.map(|l| l.0), Some(3), "{e}");
         assert!(e.to_string().starts_with("f.ron:3:"), "{e}");
-        assert!(e.message.contains("`mass`"), "{e}");
+        assert!(e.message.contains("`bodies[0].mass`"), "{e}");
     }
 
     #[test]

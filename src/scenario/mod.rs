@@ -10,7 +10,9 @@ mod fields;
 mod format;
 pub mod generators;
 mod initial_state;
+mod listed;
 mod load;
+mod ron_form;
 mod scale;
 mod snapshot;
 

@@ -6,8 +6,6 @@
 
 use std::io::{self, Write};
 
-use ron::ser::PrettyConfig;
-
 use super::contents::Scenario;
 use super::events::Event;
 use super::field_checks::MAX_STATE;
@@ -32,6 +30,9 @@ pub struct Snapshot<'a> {
     /// The events still to come, counted from now (update 0: before the
     /// next update).
     pub events: &'a [Event],
+    /// The events to come that the run will skip for certain, left out of
+    /// `events`, each with why (said in a comment line).
+    pub left_out: &'a [String],
 }
 
 impl Snapshot<'_> {
@@ -91,6 +92,13 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
         "// State hash {} (docs/design.md, \"State hash\").",
         StateHash::of_slice(snapshot.bodies, snapshot.next_id)
     )?;
+    if let Some(first) = snapshot.left_out.first() {
+        let line = format!(
+            "// {} event(s) to come left out, which the run skips for certain; the first: {first}",
+            snapshot.left_out.len()
+        );
+        writeln!(out, "{}", crate::output::printable(&line))?;
+    }
     writeln!(out, "{}", scenario_text(&snapshot.to_scenario())?)?;
     out.flush()
 }
@@ -98,11 +106,7 @@ pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Resul
 /// `scenario` as a file writes it: RON, a field a line and a body or an
 /// event a line.
 pub fn scenario_text(scenario: &Scenario) -> io::Result<String> {
-    let layout = PrettyConfig::new()
-        .struct_names(true)
-        .depth_limit(2)
-        .extensions(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES);
-    ron::ser::to_string_pretty(scenario, layout).map_err(io::Error::other)
+    ron::ser::to_string_pretty(scenario, super::ron_form::layout().depth_limit(2)).map_err(io::Error::other)
 }
 
 /// Writes a session: the scenario a run started from with every event of
@@ -181,6 +185,7 @@ mod tests {
             bodies: &bodies,
             next_id: 15,
             events: &[],
+            left_out: &[],
         };
         let mut text = Vec::new();
         write_snapshot(&snapshot, &mut text).unwrap();
@@ -244,6 +249,7 @@ mod tests {
             bodies: &[],
             next_id: 0,
             events: &[],
+            left_out: &[],
         };
         let mut text = Vec::new();
         write_snapshot(&snapshot, &mut text).unwrap();

@@ -143,14 +143,15 @@ fn write_outputs(
         staged.push(stage(path, |w| timeline.write_csv(w)).map_err(|e| failed("--timeline", e))?);
     }
     if let Some(path) = outputs.scenario {
-        let pending = sim.pending_events();
+        let pending = sim.pending_events(&bodies);
         let snapshot = Snapshot {
             name: &scenario.name,
             updates,
             settings: sim.settings(),
             bodies: &bodies,
             next_id: sim.next_body_id(),
-            events: &pending,
+            events: &pending.events,
+            left_out: &pending.left_out,
         };
         staged.push(stage(path, |w| write_snapshot(&snapshot, w)).map_err(|e| failed("--save-scenario", e))?);
     }

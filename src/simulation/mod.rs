@@ -6,7 +6,7 @@ mod timeline;
 
 use bevy::prelude::*;
 pub use headless_run::{HeadlessError, HeadlessReport, Outputs, run_headless};
-pub use timeline::{Timeline, TimelineRow};
+pub use timeline::{Timeline, TimelineRow, row_updates};
 
 use crate::components::{BodyId, BodyState, BodyStateQuery, Mass, Position, Velocity, insert_markers, spawn_states};
 use crate::execution::Execution;
@@ -17,9 +17,9 @@ use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{Event, Scenario};
 use crate::systems::{
     Absorbed, CollisionStats, SimulationFault, SimulationPlugins, SortedBoxes, StageTimings, first_non_finite,
-    run_updates,
+    run_due_events, run_updates,
 };
-use crate::timed_events::{EventLog, EventQueue, EventsPlugin, install_events, record_event};
+use crate::timed_events::{EventLog, EventQueue, EventsPlugin, Pending, install_events, record_event};
 
 /// Spawns `bodies` (ids must be unique and unused) and sets the next fresh
 /// id past the highest; returns that id.
@@ -105,6 +105,9 @@ impl Simulation {
         let mut next = sim.app.world_mut().resource_mut::<NextBodyId>();
         next.0 = next.0.max(scenario.next_id());
         install_events(sim.app.world_mut(), scenario);
+        // The events of update 0 belong to the start (as the window applies
+        // them when it makes the scene).
+        run_due_events(sim.app.world_mut());
         Ok(sim)
     }
 
@@ -119,8 +122,11 @@ impl Simulation {
     }
 
     /// The events still to come, counted from now (a snapshot's).
-    pub fn pending_events(&self) -> Vec<Event> {
-        self.app.world().resource::<EventQueue>().pending(self.updates())
+    pub fn pending_events(&self, bodies: &[BodyState]) -> Pending {
+        self.app
+            .world()
+            .resource::<EventQueue>()
+            .pending(self.updates(), bodies, self.next_body_id())
     }
 
     /// `scenario`, the one this run started from, with every event of the

@@ -10,6 +10,20 @@ use super::Simulation;
 use crate::physics::Totals;
 use crate::record::StateHash;
 
+/// The updates at which [`Timeline::run`] records its rows for a run of
+/// `updates` updates, a row every `every`, when no fault stops it: 0,
+/// `every`, `2·every`, …, and `updates`.
+pub fn row_updates(updates: u64, every: u64) -> Vec<u64> {
+    let every = every.max(1);
+    let mut rows = vec![0];
+    let mut done = 0;
+    while done < updates {
+        done += every.min(updates - done);
+        rows.push(done);
+    }
+    rows
+}
+
 /// One row: the state after `update` updates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TimelineRow {
@@ -96,7 +110,8 @@ impl Timeline {
         self.counted = (stats.shatters_total, stats.refused_total, stats.reentries_total);
     }
 
-    /// Runs `updates` updates of `sim`, a row before the first, every
+    /// Runs `updates` updates of `sim`, a row before the first (see
+    /// [`row_updates`]), every
     /// [`Self::every`] updates and after the last; `progress` hears the
     /// updates done after each row.
     pub fn run(&mut self, sim: &mut Simulation, updates: u64, mut progress: impl FnMut(u64)) {

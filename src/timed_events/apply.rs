@@ -86,14 +86,23 @@ fn apply_spawn(world: &mut World, spawn: &Spawn, around: &[u64]) -> Result<(), S
         .enumerate()
         .map(|(j, body)| body.state(first + j as u64))
         .collect();
-    let mut planets: Vec<Body> = Vec::new();
-    if !spawn.generators.is_empty() {
-        let mut query = world.query_filtered::<BodyStateQuery, With<Immovable>>();
-        planets = query
-            .iter(world)
-            .map(|body| Body::from_state(&BodyState::from_components(body)))
-            .collect();
-        planets.sort_by_key(|b| b.id);
+    let mut query = world.query_filtered::<BodyStateQuery, With<Immovable>>();
+    let mut planets: Vec<Body> = query
+        .iter(world)
+        .map(|body| Body::from_state(&BodyState::from_components(body)))
+        .collect();
+    planets.sort_by_key(|b| b.id);
+    // As a scenario's own bodies are held: none that interacts starts
+    // inside one that does not (the first update would fling it out).
+    let obstacles = Obstacles::new(&planets);
+    for (i, body) in made.iter().enumerate().filter(|(_, b)| b.interacts) {
+        if let Some(j) = obstacles.overlapped(body.position.as_dvec3(), body.half_extents.as_dvec3()) {
+            return Err(format!(
+                "bodies[{i}] would start inside body {} ({}), which does not interact",
+                planets[j].id.unwrap_or_default(),
+                planets[j].described()
+            ));
+        }
     }
     for (j, generator) in spawn.generators.iter().enumerate() {
         let id = first + made.len() as u64;

@@ -10,7 +10,7 @@ mod queue;
 use bevy::prelude::*;
 
 pub use apply::impactor;
-pub use queue::{EventLog, EventQueue, Queued, apply_due_events};
+pub use queue::{EventLog, EventQueue, Pending, Queued, apply_due_events};
 
 use crate::scenario::Scenario;
 use crate::systems::BetweenUpdates;

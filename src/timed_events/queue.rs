@@ -4,7 +4,8 @@
 use bevy::prelude::*;
 
 use super::apply::apply;
-use crate::scenario::{Event, Scenario};
+use crate::components::BodyState;
+use crate::scenario::{Event, Generator, Scenario};
 use crate::systems::{NextEventAt, SimulationFault};
 
 /// One event of the run.
@@ -18,13 +19,16 @@ pub struct Queued {
 }
 
 impl Queued {
+    /// How [`Self::described`] starts for an event a tool recorded.
+    pub const RECORDED: &str = "a recorded ";
+
     /// The event as messages name it: `events[3] (Remove at update 500)`,
     /// `a recorded Remove at update 500`.
     pub fn described(&self) -> String {
         let (kind, update) = (self.event.kind(), self.event.update());
         match self.place {
             Some(i) => format!("events[{i}] ({kind} at update {update})"),
-            None => format!("a recorded {kind} at update {update}"),
+            None => format!("{}{kind} at update {update}", Self::RECORDED),
         }
     }
 }
@@ -39,6 +43,16 @@ pub struct EventQueue {
     /// The ids of the scenario's explicit bodies, by index (a Spawn's
     /// `Shell` orbits one).
     around: Vec<u64>,
+}
+
+/// The events still to come, as a snapshot holds them
+/// ([`EventQueue::pending`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Pending {
+    /// The events, counted from the snapshot's start.
+    pub events: Vec<Event>,
+    /// Those left out, each named with why the run skips it.
+    pub left_out: Vec<String>,
 }
 
 /// What the events did so far.
@@ -88,6 +102,17 @@ impl EventQueue {
         self.events.insert(at, Queued { event, place: None });
     }
 
+    /// Drops the last event applied if a tool recorded it (one that was
+    /// skipped: it did nothing, so a session need not hold it).
+    pub fn forget_last_applied_recorded(&mut self) {
+        if let Some(last) = self.done.checked_sub(1)
+            && self.events[last].place.is_none()
+        {
+            self.events.remove(last);
+            self.done = last;
+        }
+    }
+
     /// Every event, applied and to come, in the order they happen.
     pub fn all(&self) -> impl Iterator<Item = &Queued> {
         self.events.iter()
@@ -103,20 +128,59 @@ impl EventQueue {
     }
 
     /// The events still to come after `updates` updates, each counted
-    /// from then (what a snapshot taken then holds).
-    pub fn pending(&self, updates: u64) -> Vec<Event> {
-        self.events[self.done..]
-            .iter()
-            .map(|q| q.event.at(q.event.update().saturating_sub(updates)))
-            .collect()
+    /// from then, as a snapshot of `bodies` (sorted by id; `next_id` the
+    /// next fresh id) holds them: a `Shell`'s `around` names its source by
+    /// its place among `bodies`, and an event the run is certain to skip
+    /// (its body is gone, ids are never used again; a planet's breakup) is
+    /// left out, with why, so that the snapshot loads and continues as the
+    /// run does.
+    pub fn pending(&self, updates: u64, bodies: &[BodyState], next_id: u64) -> Pending {
+        let mut pending = Pending::default();
+        for queued in &self.events[self.done..] {
+            let mut event = queued.event.at(queued.event.update().saturating_sub(updates));
+            match self.as_in_snapshot(&mut event, bodies, next_id) {
+                Ok(()) => pending.events.push(event),
+                Err(why) => pending.left_out.push(format!("{}: {why}", queued.described())),
+            }
+        }
+        pending
+    }
+
+    /// `event` as a snapshot of `bodies` holds it (see [`Self::pending`]),
+    /// or why the run will skip it.
+    fn as_in_snapshot(&self, event: &mut Event, bodies: &[BodyState], next_id: u64) -> Result<(), String> {
+        let place = |id: u64| bodies.binary_search_by_key(&id, |b| b.id.0).ok();
+        if let Event::Spawn(spawn) = event {
+            for (j, generator) in spawn.generators.iter_mut().enumerate() {
+                if let Generator::Shell(shell) = generator {
+                    let id = self.around.get(shell.around).copied().unwrap_or(u64::MAX);
+                    shell.around =
+                        place(id).ok_or_else(|| format!("generators[{j}] (Shell) orbits body {id}, which is gone"))?;
+                }
+            }
+            return Ok(());
+        }
+        let Some(id) = event.body() else {
+            return Ok(());
+        };
+        match place(id) {
+            Some(i) if matches!(event, Event::Breakup(_)) && !bodies[i].interacts => Err(format!(
+                "body {id} does not interact (a planet): only interacting bodies break up"
+            )),
+            None if id < next_id => Err(format!(
+                "there is no body {id} (it shattered, re-entered or was removed)"
+            )),
+            _ => Ok(()),
+        }
     }
 
     /// Back to the state after `updates` updates, before that update's
-    /// events: the scenario's events from then on are to come again, and
-    /// recorded ones from then on are dropped (the window's rewind).
+    /// events (but for update 0, whose own events are part of the start):
+    /// the scenario's events from then on are to come again, and recorded
+    /// ones from then on are dropped (the window's rewind).
     pub fn rewind(&mut self, updates: u64) {
         self.events.retain(|q| q.place.is_some() || q.event.update() < updates);
-        self.done = self.events.partition_point(|q| q.event.update() < updates);
+        self.done = self.events.partition_point(|q| q.event.update() < updates.max(1));
     }
 }
 

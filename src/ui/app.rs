@@ -33,6 +33,9 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         settings,
         scenario,
     } = Start::from_options(&options)?;
+    // Read before the renderer starts, so that a bad script is one line of
+    // error and no log of a window that never opens.
+    let actions = options.actions.as_deref().map(ActionScript::load).transpose()?;
     let execution = settings
         .execution()
         .build(crate::calibration::machine_auto_split())?
@@ -93,8 +96,8 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         .add_plugins(SandboxPlugins {
             record_all_frames: options.frames.is_some(),
         });
-    if let Some(path) = &options.actions {
-        app.insert_resource(ActionScript::load(path)?);
+    if let Some(script) = actions {
+        app.insert_resource(script);
     }
     if let Some(path) = &options.dump {
         app.insert_resource(DumpAtClose(path.clone()));

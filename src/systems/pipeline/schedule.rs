@@ -80,8 +80,9 @@ pub fn run_due_events(world: &mut World) {
 
 /// Runs `updates` simulation updates on `world`, timing each as a whole,
 /// and stops early at a [`SimulationFault`]. The events due before an
-/// update run first ([`BetweenUpdates`]). In parallel mode the updates run
-/// inside the worker pool ([`Execution::install`]).
+/// update run first ([`BetweenUpdates`]; those of update 0 ran when the
+/// scene was made). In parallel mode the updates run inside the worker
+/// pool ([`Execution::install`]).
 pub fn run_updates(world: &mut World, updates: u64) {
     let execution = world.resource::<Execution>().clone();
     execution.install(|| {

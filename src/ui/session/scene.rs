@@ -179,6 +179,9 @@ pub fn restart_scene(world: &mut World) {
     *world.resource_mut::<Absorbed>() = Absorbed::default();
     *world.resource_mut::<GravityInUse>() = GravityInUse::default();
     world.resource_mut::<SimulationFault>().clear();
+    // The events of update 0 belong to the start: a session saved before
+    // the first update replays with `--steps 0` to this state.
+    crate::systems::run_due_events(world);
     world.resource_mut::<OverlappingPairs>().0.clear();
     world.resource_mut::<StageTimings>().reset();
     let mut state = world.resource_mut::<SandboxState>();

@@ -72,16 +72,17 @@ fn save_snapshot(
     let Some(path) = save.requested.take() else {
         return;
     };
-    let pending = queue.pending(fault.updates);
     let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
     states.sort_unstable_by_key(|b| b.id);
+    let pending = queue.pending(fault.updates, &states, next_id.0);
     let snapshot = Snapshot {
         name: &state.scenario.name,
         updates: fault.updates,
         settings: &physics,
         bodies: &states,
         next_id: next_id.0,
-        events: &pending,
+        events: &pending.events,
+        left_out: &pending.left_out,
     };
     let outcome = check_new("save", &path, "choose another name: saves never overwrite")
         .map_err(|e| e.to_string())

@@ -17,7 +17,7 @@ use crate::maths;
 use crate::resources::SimulationSettings;
 use crate::scenario::{Body, Breakup, Event, Fire, Remove, Shape, Spawn, Template};
 use crate::systems::SimulationFault;
-use crate::timed_events::{EventLog, record_event};
+use crate::timed_events::{EventLog, EventQueue, Queued, record_event};
 use crate::ui::session::{SandboxState, SnapshotSave};
 use crate::ui::view::{MainCamera, Selection};
 
@@ -95,7 +95,15 @@ fn apply_action(world: &mut World, action: &ToolAction) -> Result<(), String> {
             mass,
         } => {
             let source = heaviest_source(world).ok_or("launch: there is no source to orbit")?;
-            let g = world.resource::<SimulationSettings>().gravitational_constant;
+            let settings = world.resource::<SimulationSettings>();
+            let (g, max_bodies) = (settings.gravitational_constant, settings.max_bodies);
+            // Counted before the ring is built: a count past the budget
+            // would only be refused after it was made.
+            if u64::from(count) > max_bodies {
+                return Err(format!(
+                    "launch: {count} satellites would be more than `max_bodies` ({max_bodies})"
+                ));
+            }
             Event::Spawn(Spawn {
                 update,
                 bodies: ring(&source, g, altitude, inclination, count, half_size, mass),
@@ -155,13 +163,41 @@ fn apply_action(world: &mut World, action: &ToolAction) -> Result<(), String> {
             return Ok(());
         }
     };
-    let skipped = world.resource::<EventLog>().skipped;
+    record_checked(world, event)
+}
+
+/// Records a tool's `event` and applies it, held to a file event's rules
+/// first; one that is refused or skipped is not recorded (a saved session
+/// holds only what happened, and `validate` accepts it).
+fn record_checked(world: &mut World, event: Event) -> Result<(), String> {
+    // What a file's event may not hold, a tool's may not either.
+    event
+        .check()
+        .map_err(|problem| format!("{}: {problem}", event.kind()))?;
+    let before = world.resource::<EventLog>().clone();
     record_event(world, event);
-    world.resource_mut::<SandboxState>().edits += 1;
-    let log = world.resource::<EventLog>();
-    if log.skipped > skipped {
-        return Err(log.last_skipped.clone().unwrap_or_default());
+    // Applied last of its update's events: if it was skipped, it is the
+    // last skipped.
+    let mut log = world.resource::<EventLog>().clone();
+    let ours = log.skipped > before.skipped
+        && log
+            .last_skipped
+            .as_deref()
+            .is_some_and(|why| why.starts_with(Queued::RECORDED));
+    if ours {
+        // It did nothing: not recorded, so that a saved session holds only
+        // what happened (and `validate` accepts it).
+        world.resource_mut::<EventQueue>().forget_last_applied_recorded();
+        let why = log.last_skipped.clone().unwrap_or_default();
+        log.skipped -= 1;
+        if before.first_skipped.is_none() && log.skipped == before.skipped {
+            log.first_skipped = None;
+        }
+        log.last_skipped = before.last_skipped;
+        world.insert_resource(log);
+        return Err(why);
     }
+    world.resource_mut::<SandboxState>().edits += 1;
     Ok(())
 }
 
