@@ -72,6 +72,13 @@ impl KeepWarm {
         }
     }
 
+    /// Ends the polling now: the pollers go back to sleep at their next
+    /// look at the deadline (the host needs the cores, as the window's
+    /// frame does once its updates are run).
+    pub fn rest(&self) {
+        self.until.store(0, Ordering::Relaxed);
+    }
+
     /// Runs pending jobs of `pool` until the deadline passes.
     fn poll(&self, pool: &rayon::ThreadPool) {
         loop {
@@ -106,6 +113,27 @@ mod tests {
         let start = Instant::now();
         while warm.polling.load(Ordering::Relaxed) > 0 {
             assert!(start.elapsed() < Duration::from_secs(5), "pollers never stopped");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    #[test]
+    fn resting_stops_the_pollers_before_their_deadline() {
+        let pool = Arc::new(rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap());
+        let warm = Arc::new(KeepWarm::default());
+        // Stepped from outside the pool: every worker polls. A deadline far
+        // off: without a rest they would poll for a minute.
+        warm.after_step(&pool);
+        warm.until.store(warm.now() + 60_000_000_000, Ordering::Relaxed);
+        std::thread::sleep(Duration::from_millis(20));
+        assert!(warm.polling.load(Ordering::Relaxed) > 0, "nobody polls");
+        warm.rest();
+        let start = Instant::now();
+        while warm.polling.load(Ordering::Relaxed) > 0 {
+            assert!(
+                start.elapsed() < Duration::from_secs(5),
+                "pollers went on after the rest"
+            );
             std::thread::sleep(Duration::from_millis(1));
         }
     }

@@ -54,9 +54,11 @@ impl FromStr for SplitPolicy {
 }
 
 /// Body count from which `Auto` splits a stage that no calibration covers:
-/// the split point the project used before calibrations (chosen on the
-/// 2-core CI machine type; docs/design.md, "Sequential and parallel").
-pub const FALLBACK_SPLIT_FROM: u64 = 16_384;
+/// between the crossovers measured on the two kinds of 2-core machine the
+/// project ran on (every stage from about 1 000 bodies on an AMD EPYC VM,
+/// 8 000–16 000 on an Intel Xeon VM), so that a new user's parallel run
+/// pays where it clearly can (docs/design.md, "Sequential and parallel").
+pub const FALLBACK_SPLIT_FROM: u64 = 4_096;
 
 /// The body count from which `Auto` splits each stage.
 #[derive(Clone, Debug, PartialEq, Eq)]

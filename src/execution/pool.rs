@@ -171,6 +171,15 @@ impl Execution {
         self
     }
 
+    /// Lets the idle workers sleep now instead of polling until
+    /// [`WARM_FOR`](super::WARM_FOR) after the last step: for a host whose
+    /// own work follows (the window, after a frame's updates, draws).
+    pub fn rest(&self) {
+        if let Some(warm) = &self.warm {
+            warm.rest();
+        }
+    }
+
     /// Sequential or parallel.
     pub fn mode(&self) -> ExecutionMode {
         self.mode

@@ -19,11 +19,10 @@ use crate::systems::SimulationPlugins;
 use crate::timed_events::EventsPlugin;
 
 /// Whether the simulation's idle workers poll for work for a moment after
-/// each parallel step in the window too (see `execution/keep_warm.rs`). They
-/// poll beside the renderer, but measured on two cores with a software
-/// renderer they cost no frames (ARCHITECTURE.md, "Parallel execution"), so
-/// the window keeps them like the headless runs do. Flip this if a machine
-/// shows otherwise.
+/// each parallel step in the window too (see `execution/keep_warm.rs`):
+/// between the steps of a frame's updates they save the wake-ups, and once
+/// the frame's updates are run the drive lets them rest, so that they take
+/// no core the drawing needs (ARCHITECTURE.md, "Parallel execution").
 const KEEP_WORKERS_WARM: bool = true;
 
 /// Opens the window and runs until it is closed (or a scripted run ends).

@@ -117,6 +117,9 @@ fn drive_simulation(world: &mut World, mut scene: Local<u64>) {
         run_updates(world, 1);
         ran += 1;
     }
+    // The frame's updates are run: the workers' polling would only take
+    // the cores the drawing needs now.
+    world.resource::<Execution>().rest();
     world
         .resource_mut::<UpdateClock>()
         .record(real.delta_secs_f64(), owed, ran);
