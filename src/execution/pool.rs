@@ -2,8 +2,8 @@
 //! that drives a kernel whole or in chunks.
 
 use std::fmt;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
 
 use bevy::prelude::*;
 
@@ -15,9 +15,12 @@ use super::{AutoSplit, ExecutionMode, Split, SplitPolicy, WorkerPool};
 /// Most worker threads a pool may have.
 pub const MAX_THREADS: usize = 256;
 
-/// Hardware threads of this machine (1 if unknown).
+/// Hardware threads of this machine (1 if unknown), asked once: the
+/// answer reads the cgroup's files, tens of microseconds, and the parallel
+/// steps ask it every time.
 pub fn available_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
+    static THREADS: OnceLock<usize> = OnceLock::new();
+    *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
 /// The execution mode, thread count and worker pool of the simulation.
@@ -233,8 +236,9 @@ impl Execution {
 
     /// Runs `kernel` on contiguous chunks of `data` on the pool's threads
     /// (about `chunks_per_thread` per thread, one item each when fine
-    /// grained) and returns their results in input order.
-    fn map_split<S, R, K>(&self, data: S, chunks_per_thread: usize, kernel: K) -> Vec<R>
+    /// grained, never fewer than `least` items but in the last) and returns
+    /// their results in input order.
+    fn map_split<S, R, K>(&self, data: S, chunks_per_thread: usize, least: usize, kernel: K) -> Vec<R>
     where
         S: Split,
         R: Send,
@@ -245,15 +249,17 @@ impl Execution {
             return vec![kernel(data)];
         }
         self.split_recently.store(true, Ordering::Relaxed);
+        let runners = runners(self.threads(), available_threads());
         let chunk = if self.fine_grained {
             1
         } else {
-            len.div_ceil(self.threads() * chunks_per_thread)
-        };
+            len.div_ceil(runners * chunks_per_thread)
+        }
+        .max(least);
         if self.worker_pool == WorkerPool::Bevy {
             return map_on_bevy(data, chunk, self.threads(), &kernel);
         }
-        let claims = Claims::new(data, chunk, self.threads());
+        let claims = Claims::new(data, chunk, runners);
         self.pool.install(|| claims.run(&kernel));
         if let Some(warm) = &self.warm {
             warm.after_step(&self.pool);
@@ -300,7 +306,20 @@ impl StageExecution<'_> {
         R: Send,
         K: Fn(S) -> R + Sync,
     {
-        self.map_in(data, CHUNKS_PER_THREAD, kernel)
+        self.map_in(data, CHUNKS_PER_THREAD, 1, kernel)
+    }
+
+    /// Like [`map_chunks`](Self::map_chunks), in chunks of at least `least`
+    /// items: for a step whose every chunk pays a cost that grows with the
+    /// input (the sort's filing counts into one slot per grid cell), so
+    /// that its work does not grow with the number of threads.
+    pub fn map_chunks_of_at_least<S, R, K>(&self, data: S, least: usize, kernel: K) -> Vec<R>
+    where
+        S: Split,
+        R: Send,
+        K: Fn(S) -> R + Sync,
+    {
+        self.map_in(data, CHUNKS_PER_THREAD, least, kernel)
     }
 
     /// Like [`map_chunks`](Self::map_chunks), in `UNEVEN_CHUNKS_PER_THREAD`
@@ -313,23 +332,35 @@ impl StageExecution<'_> {
         R: Send,
         K: Fn(S) -> R + Sync,
     {
-        self.map_in(data, UNEVEN_CHUNKS_PER_THREAD, kernel)
+        self.map_in(data, UNEVEN_CHUNKS_PER_THREAD, 1, kernel)
     }
 
     /// `kernel` over `data`: whole, on this thread, unless the stage
-    /// splits; then in about `chunks_per_thread` chunks per thread.
-    fn map_in<S, R, K>(&self, data: S, chunks_per_thread: usize, kernel: K) -> Vec<R>
+    /// splits; then in about `chunks_per_thread` chunks per thread of at
+    /// least `least` items.
+    fn map_in<S, R, K>(&self, data: S, chunks_per_thread: usize, least: usize, kernel: K) -> Vec<R>
     where
         S: Split,
         R: Send,
         K: Fn(S) -> R + Sync,
     {
         if self.split {
-            self.execution.map_split(data, chunks_per_thread, kernel)
+            self.execution.map_split(data, chunks_per_thread, least, kernel)
         } else {
             vec![kernel(data)]
         }
     }
+}
+
+/// Threads that run a parallel step of a pool of `threads` on a machine
+/// with `cores` hardware threads, and so how many chunks it is cut into:
+/// more threads than cores would only take turns on them, one waiting for
+/// a core in the middle of its chunk while the others spin waiting for
+/// that chunk (16 threads on 2 cores made a 10 000-body update 7 times
+/// slower than 2), and every chunk more costs its own start. Which thread
+/// runs which chunk, and how the work is cut, never changes a result.
+fn runners(threads: usize, cores: usize) -> usize {
+    threads.min(cores).max(1)
 }
 
 fn build_pool(threads: usize) -> Result<rayon::ThreadPool, ExecutionError> {
@@ -364,7 +395,11 @@ mod tests {
     fn parallel_map_keeps_input_order_and_covers_every_item() {
         let exec = parallel(3);
         let chunks = always(&exec).map_chunks(0..10_007, |r: Range<usize>| r);
-        assert_eq!(chunks.len(), 3 * CHUNKS_PER_THREAD, "about four chunks per thread");
+        assert_eq!(
+            chunks.len(),
+            runners(3, available_threads()) * CHUNKS_PER_THREAD,
+            "about four chunks per thread that runs"
+        );
         let flat: Vec<usize> = chunks.into_iter().flatten().collect();
         assert_eq!(flat, (0..10_007).collect::<Vec<_>>());
     }
@@ -391,6 +426,27 @@ mod tests {
             seq.for_stage("s", 1 << 20)
                 .map_chunks(0..1_000_000, |r: Range<usize>| r),
             vec![0..1_000_000]
+        );
+    }
+
+    #[test]
+    fn no_more_threads_run_a_step_than_the_machine_has_cores() {
+        assert_eq!(runners(2, 2), 2);
+        assert_eq!(runners(16, 16), 16);
+        assert_eq!(runners(16, 2), 2);
+        assert_eq!(runners(1, 16), 1);
+        assert_eq!(runners(4, 0), 1);
+    }
+
+    #[test]
+    fn chunks_of_at_least_a_size_are_fewer_and_cover_every_item() {
+        let exec = parallel(2);
+        let chunks = always(&exec).map_chunks_of_at_least(0..1000, 300, |r: Range<usize>| r);
+        assert_eq!(chunks, vec![0..300, 300..600, 600..900, 900..1000]);
+        // Below the usual chunk size the bound changes nothing.
+        assert_eq!(
+            always(&exec).map_chunks_of_at_least(0..1000, 2, |r: Range<usize>| r),
+            always(&exec).map_chunks(0..1000, |r: Range<usize>| r)
         );
     }
 

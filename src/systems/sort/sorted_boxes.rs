@@ -63,6 +63,12 @@ impl SortedBoxes {
     }
 }
 
+/// Boxes a chunk of the filing holds at least per grid cell: every chunk
+/// counts into, and places from, one slot per cell, so that cost stays a
+/// small share of its own boxes' work however many threads there are (at
+/// a million boxes, 64 chunks for 16 threads cost a million slots).
+const BOXES_PER_COUNTED_CELL: usize = 4;
+
 /// Sorts `boxes` into `sorted`, reusing its buffers: the bounds of the
 /// boxes' lower y–z corners, the grid fitted to them, the filing by cell
 /// (counted by chunks of boxes, laid out, placed by the same chunks), then
@@ -86,7 +92,10 @@ pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, s
             )
     });
     let spare = Spare::new(&mut sorted.spare_counts, &mut sorted.counts);
-    sorted.counts = stage.map_chunks(0..boxes.len(), |range| count_by_cell(boxes, range, &grid, spare.take()));
+    let least = grid.cell_count() * BOXES_PER_COUNTED_CELL;
+    sorted.counts = stage.map_chunks_of_at_least(0..boxes.len(), least, |range| {
+        count_by_cell(boxes, range, &grid, spare.take())
+    });
     sorted.spare_counts = spare.into_inner();
     let filed = cell_starts(&sorted.counts, grid.cell_count(), &mut sorted.starts);
     // Same length as last update's in a steady state: nothing to write here.
