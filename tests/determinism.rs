@@ -8,7 +8,8 @@ use kessler::scenario::Scenario;
 
 fn run(text: &str, mode: ExecutionMode, threads: usize, updates: u64) -> Vec<BodyState> {
     let scenario = Scenario::parse(text, "test").unwrap();
-    let execution = Execution::new(mode, threads).unwrap();
+    // Cut for every thread, as a machine with that many cores would.
+    let execution = Execution::new(mode, threads).unwrap().as_if_hardware_threads(threads);
     // Parallel runs split every kernel finely, so chunk boundaries are tested.
     let execution = if mode == ExecutionMode::Parallel {
         execution.fine_grained()
@@ -110,7 +111,7 @@ fn collapse_is_bit_identical(gravity: &str, count: usize) -> usize {
     );
     let scenario = Scenario::parse(&text, "test").unwrap();
     let run = |mode, threads| {
-        let execution = Execution::new(mode, threads).unwrap();
+        let execution = Execution::new(mode, threads).unwrap().as_if_hardware_threads(threads);
         let execution = if mode == ExecutionMode::Parallel {
             execution.fine_grained()
         } else {
@@ -142,8 +143,9 @@ fn collapse_is_bit_identical(gravity: &str, count: usize) -> usize {
 }
 
 /// A shattering collapse under tree gravity: thread counts 1, 2, 3 and 7
-/// and splits `Always`, `Auto` and a number give one state hash,
-/// sequential's.
+/// (each cut as on a machine with as many cores; on fewer, a step runs on
+/// only as many threads as there are cores) and splits `Always`, `Auto`
+/// and a number give one state hash, sequential's.
 #[test]
 fn one_hash_for_every_thread_count_and_split() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/collapse.ron");
@@ -159,6 +161,7 @@ fn one_hash_for_every_thread_count_and_split() {
         for split in [SplitPolicy::Always, SplitPolicy::Auto, SplitPolicy::Above(100)] {
             let execution = Execution::new(ExecutionMode::Parallel, threads)
                 .unwrap()
+                .as_if_hardware_threads(threads)
                 .with_split(split);
             assert_eq!(hash(execution), sequential, "{threads} threads, split {split}");
         }
@@ -192,7 +195,9 @@ fn absorbing_a_shattering_cloud_is_bit_identical() {
         "absorbs and shatters: {sequential:?}"
     );
     for threads in [2, 3] {
-        let parallel = run(Execution::new(ExecutionMode::Parallel, threads).unwrap());
+        let parallel = run(Execution::new(ExecutionMode::Parallel, threads)
+            .unwrap()
+            .as_if_hardware_threads(threads));
         assert_eq!(parallel, sequential, "{threads} threads");
     }
 }

@@ -36,6 +36,9 @@ pub struct Execution {
     auto: Arc<AutoSplit>,
     /// Split all work, at every body count, into one-item chunks.
     fine_grained: bool,
+    /// The machine's hardware threads, as far as the steps are concerned:
+    /// a step runs on no more of the pool's threads.
+    hardware_threads: usize,
     /// Set whenever work was split since the last [`install`](Self::install).
     split_recently: Arc<AtomicBool>,
     /// Keeps the pool's other workers awake between the steps of an update;
@@ -82,6 +85,7 @@ impl Execution {
             split: SplitPolicy::default(),
             auto: Arc::default(),
             fine_grained: false,
+            hardware_threads: available_threads(),
             split_recently: Arc::new(AtomicBool::new(true)),
             warm: Some(Arc::default()),
         })
@@ -98,6 +102,15 @@ impl Execution {
     pub fn fine_grained(mut self) -> Self {
         self.fine_grained = true;
         self.split = SplitPolicy::Always;
+        self
+    }
+
+    /// Runs and cuts the steps as if the machine had `threads` hardware
+    /// threads (at least one): a step runs on no more of the pool's
+    /// threads than the machine has, and is cut for those. For tests that
+    /// must cut the work as a machine with more cores would.
+    pub fn as_if_hardware_threads(mut self, threads: usize) -> Self {
+        self.hardware_threads = threads.max(1);
         self
     }
 
@@ -249,7 +262,7 @@ impl Execution {
             return vec![kernel(data)];
         }
         self.split_recently.store(true, Ordering::Relaxed);
-        let runners = runners(self.threads(), available_threads());
+        let runners = runners(self.threads(), self.hardware_threads);
         let chunk = if self.fine_grained {
             1
         } else {
@@ -393,11 +406,14 @@ mod tests {
 
     #[test]
     fn parallel_map_keeps_input_order_and_covers_every_item() {
-        let exec = parallel(3);
+        let exec = parallel(3).as_if_hardware_threads(3);
         let chunks = always(&exec).map_chunks(0..10_007, |r: Range<usize>| r);
+        assert_eq!(chunks.len(), 3 * CHUNKS_PER_THREAD, "about four chunks per thread");
+        let on_two_cores = parallel(3).as_if_hardware_threads(2);
+        let chunks = always(&on_two_cores).map_chunks(0..10_007, |r: Range<usize>| r);
         assert_eq!(
             chunks.len(),
-            runners(3, available_threads()) * CHUNKS_PER_THREAD,
+            2 * CHUNKS_PER_THREAD,
             "about four chunks per thread that runs"
         );
         let flat: Vec<usize> = chunks.into_iter().flatten().collect();
