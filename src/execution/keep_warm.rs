@@ -17,8 +17,6 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-use super::pool::available_threads;
-
 /// How long idle workers keep polling after the latest parallel step:
 /// longer than the serial gaps inside an update, short enough that a
 /// paused or sequential simulation burns no CPU for long.
@@ -53,14 +51,15 @@ impl KeepWarm {
         u64::try_from(self.origin.elapsed().as_nanos()).unwrap_or(u64::MAX)
     }
 
-    /// Called by the driving thread when a parallel step of `pool` ends:
-    /// moves the deadline and tops the pollers up to one per other worker.
-    pub fn after_step(self: &Arc<Self>, pool: &Arc<rayon::ThreadPool>) {
+    /// Called by the driving thread when a parallel step of `pool` ends on
+    /// a machine with `cores` hardware threads: moves the deadline and tops
+    /// the pollers up to one per other worker (see [`pollers`]).
+    pub fn after_step(self: &Arc<Self>, pool: &Arc<rayon::ThreadPool>, cores: usize) {
         let deadline = self.now().saturating_add(WARM_FOR.as_nanos() as u64);
         self.until.store(deadline, Ordering::Relaxed);
         let driver = pool.current_thread_index().unwrap_or(usize::MAX);
         self.driver.store(driver, Ordering::Relaxed);
-        let wanted = pollers(pool.current_num_threads(), driver != usize::MAX, available_threads());
+        let wanted = pollers(pool.current_num_threads(), driver != usize::MAX, cores);
         while self
             .polling
             .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| (n < wanted).then_some(n + 1))
@@ -128,8 +127,8 @@ mod tests {
         let pool = Arc::new(rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap());
         let warm = Arc::new(KeepWarm::default());
         pool.install(|| {
-            warm.after_step(&pool);
-            warm.after_step(&pool);
+            warm.after_step(&pool, 3);
+            warm.after_step(&pool, 3);
             // The driver is a worker: the two others may poll.
             assert!(warm.polling.load(Ordering::Relaxed) <= 2);
         });
@@ -146,7 +145,7 @@ mod tests {
         let warm = Arc::new(KeepWarm::default());
         // Stepped from outside the pool: every worker polls. A deadline far
         // off: without a rest they would poll for a minute.
-        warm.after_step(&pool);
+        warm.after_step(&pool, 3);
         warm.until.store(warm.now() + 60_000_000_000, Ordering::Relaxed);
         std::thread::sleep(Duration::from_millis(20));
         assert!(warm.polling.load(Ordering::Relaxed) > 0, "nobody polls");
@@ -166,7 +165,7 @@ mod tests {
         let pool = Arc::new(rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap());
         let warm = Arc::new(KeepWarm::default());
         let sum: u64 = pool.install(|| {
-            warm.after_step(&pool);
+            warm.after_step(&pool, 3);
             let (a, b) = rayon::join(|| (0..1000u64).sum::<u64>(), || (1000..2000u64).sum::<u64>());
             a + b
         });

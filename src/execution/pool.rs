@@ -275,7 +275,7 @@ impl Execution {
         let claims = Claims::new(data, chunk, runners);
         self.pool.install(|| claims.run(&kernel));
         if let Some(warm) = &self.warm {
-            warm.after_step(&self.pool);
+            warm.after_step(&self.pool, self.hardware_threads);
         }
         claims.into_results()
     }
