@@ -109,9 +109,10 @@ fn a_spawn_adds_its_bodies_at_its_update() {
                    generators: [Shell(count: 50, around: 0, inner_radius: 500, outer_radius: 600)])",
         ),
     );
-    let (before, _, rows) = headless(&file, 4, &[]);
+    let (before, _, rows) = headless(&file, 3, &[]);
     assert_eq!((count(&before, "at the end"), rows.len()), (6, 6), "{before}");
-    let (after, _, rows) = headless(&file, 5, &[]);
+    // A run that stops after update 4 has applied update 4's events.
+    let (after, _, rows) = headless(&file, 4, &[]);
     assert_eq!(count(&after, "at the end"), 57, "{after}");
     assert_eq!(count(&after, "events applied"), 1, "{after}");
     // Fresh ids from the next id: the body first, then the shell.
@@ -139,17 +140,17 @@ fn a_remove_and_a_set_take_effect_at_exactly_their_update() {
     );
     let snapshot = dir.path().join("snapshot.ron");
     let path = snapshot.to_str().unwrap();
-    let (_, _, rows) = headless(&file, 6, &["--save-scenario", path]);
+    let (_, _, rows) = headless(&file, 5, &["--save-scenario", path]);
     assert!(rows.iter().any(|r| r.id == 4), "removed too early");
     let saved = Scenario::load(&snapshot).unwrap();
     assert_eq!(saved.physics.shatter_threshold, 3.0, "set too early");
     assert_eq!(
         saved.events.iter().map(|e| (e.kind(), e.update())).collect::<Vec<_>>(),
-        [("Remove", 0), ("Set", 0)],
+        [("Remove", 1), ("Set", 1)],
         "a snapshot keeps the events still to come, counted from its own start"
     );
     std::fs::remove_file(&snapshot).unwrap();
-    let (summary, _, rows) = headless(&file, 7, &["--save-scenario", path]);
+    let (summary, _, rows) = headless(&file, 6, &["--save-scenario", path]);
     assert!(!rows.iter().any(|r| r.id == 4), "not removed");
     assert_eq!(count(&summary, "at the end"), 5, "{summary}");
     let saved = Scenario::load(&snapshot).unwrap();
@@ -168,8 +169,8 @@ fn a_breakup_keeps_mass_volume_and_momentum() {
         "breakup.ron",
         &scene("Breakup(update: 3, body: 5, fragments: 40, speed: 0.5)"),
     );
-    let (_, _, before) = headless(&file, 3, &[]);
-    let (summary, _, after) = headless(&file, 4, &[]);
+    let (_, _, before) = headless(&file, 2, &[]);
+    let (summary, _, after) = headless(&file, 3, &[]);
     assert_eq!(after.len(), before.len() - 1 + 40, "{summary}");
     let parent = before.iter().find(|r| r.id == 5).unwrap();
     let fragments: Vec<&Row> = after.iter().filter(|r| r.id >= 6).collect();
@@ -414,23 +415,43 @@ fn a_snapshot_keeps_its_events_to_come_as_the_run_does() {
     }
 }
 
-/// A session whose tools acted at update 0 (the window paused at its
-/// start) replays with `--steps 0` to the window's state: the events due
-/// at update 0 apply before a run of no updates ends, as they do when a
-/// tool acts.
+/// A session whose tools acted while the window was paused at update U
+/// replays with `--steps U` to the window's state, for U = 0 and later: a
+/// run that stops after update U has applied U's events (the scenario's
+/// and the recorded), as the window has once a tool acts there.
 #[test]
-fn a_session_of_tools_at_update_zero_replays_with_no_updates() {
+fn a_session_of_tools_at_a_paused_update_replays_with_that_many_updates() {
     let dir = tempfile::tempdir().unwrap();
-    let scenario = Scenario::parse(&scene("Remove(update: 0, body: 3)"), "zero.ron").unwrap();
-    let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
-    let mut live = Simulation::from_scenario(&scenario, execution).unwrap();
-    live.record_event(Event::Remove(Remove { update: 0, body: 4 }));
-    let mut text = Vec::new();
-    write_session(&live.session(&scenario), 0, &mut text).unwrap();
-    let file = write(dir.path(), "session.ron", &String::from_utf8(text).unwrap());
-    let (_, _, rows) = headless(&file, 0, &[]);
-    let ids: Vec<u64> = rows.iter().map(|r| r.id).collect();
-    let live_ids: Vec<u64> = live.snapshot().iter().map(|b| b.id.0).collect();
-    assert_eq!(ids, live_ids);
-    assert_eq!(ids, [0, 1, 2, 5]);
+    for at in [0, 5] {
+        let text = scene(&format!(
+            "Remove(update: {at}, body: 3), Set(update: {at}, shatter_threshold: 50)"
+        ));
+        let scenario = Scenario::parse(&text, "paused.ron").unwrap();
+        let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
+        let mut live = Simulation::from_scenario(&scenario, execution).unwrap();
+        live.step(at);
+        live.record_event(Event::Remove(Remove { update: at, body: 4 }));
+        let mut text = Vec::new();
+        write_session(&live.session(&scenario), 0, &mut text).unwrap();
+        let file = write(
+            dir.path(),
+            &format!("session-{at}.ron"),
+            &String::from_utf8(text).unwrap(),
+        );
+        let (_, _, rows) = headless(&file, at, &[]);
+        let replayed: Vec<(u64, [f32; 3])> = rows.iter().map(|r| (r.id, r.position.map(|x| x as f32))).collect();
+        let window: Vec<(u64, [f32; 3])> = live
+            .snapshot()
+            .iter()
+            .map(|b| (b.id.0, b.position.to_array()))
+            .collect();
+        assert_eq!(replayed, window, "paused at update {at}");
+        assert_eq!(replayed.iter().map(|r| r.0).collect::<Vec<_>>(), [0, 1, 2, 5]);
+        // A snapshot there holds none of them: they have happened.
+        let snapshot = dir.path().join(format!("snapshot-{at}.ron"));
+        headless(&file, at, &["--save-scenario", snapshot.to_str().unwrap()]);
+        let saved = Scenario::load(&snapshot).unwrap();
+        assert!(saved.events.is_empty(), "paused at update {at}: {:?}", saved.events);
+        assert_eq!(saved.physics.shatter_threshold, 50.0);
+    }
 }

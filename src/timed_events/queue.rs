@@ -174,13 +174,13 @@ impl EventQueue {
         }
     }
 
-    /// Back to the state after `updates` updates, before that update's
-    /// events (but for update 0, whose own events are part of the start):
-    /// the scenario's events from then on are to come again, and recorded
-    /// ones from then on are dropped (the window's rewind).
+    /// Back to the state after `updates` updates and the scenario's events
+    /// of that update, before any recorded there (a checkpoint's): the
+    /// scenario's later events are to come again, and the recorded ones
+    /// from then on are dropped (the window's rewind).
     pub fn rewind(&mut self, updates: u64) {
         self.events.retain(|q| q.place.is_some() || q.event.update() < updates);
-        self.done = self.events.partition_point(|q| q.event.update() < updates.max(1));
+        self.done = self.events.partition_point(|q| q.event.update() <= updates);
     }
 }
 

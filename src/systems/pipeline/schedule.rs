@@ -79,10 +79,11 @@ pub fn run_due_events(world: &mut World) {
 }
 
 /// Runs `updates` simulation updates on `world`, timing each as a whole,
-/// and stops early at a [`SimulationFault`]. The events due before an
-/// update run first ([`BetweenUpdates`]; those of update 0 ran when the
-/// scene was made). In parallel mode the updates run inside the worker
-/// pool ([`Execution::install`]).
+/// and stops early at a [`SimulationFault`]. The events of an update run
+/// once it has run ([`BetweenUpdates`]; those of update 0 ran when the
+/// scene was made), so that a run that stops after update N shows N's
+/// events, as a window paused there does once a tool acts. In parallel
+/// mode the updates run inside the worker pool ([`Execution::install`]).
 pub fn run_updates(world: &mut World, updates: u64) {
     let execution = world.resource::<Execution>().clone();
     execution.install(|| {
@@ -90,12 +91,14 @@ pub fn run_updates(world: &mut World, updates: u64) {
             if world.resource::<SimulationFault>().fault.is_some() {
                 return;
             }
-            run_due_events(world);
             let mut fault = world.resource_mut::<SimulationFault>();
             fault.updates += 1;
             let start = Instant::now();
             world.run_schedule(SimulationUpdate);
             world.resource_mut::<StageTimings>().update.record(start.elapsed());
+            if world.resource::<SimulationFault>().fault.is_none() {
+                run_due_events(world);
+            }
         }
     });
 }

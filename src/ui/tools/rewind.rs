@@ -24,7 +24,8 @@ pub const CHECKPOINT_BYTES: usize = 256 << 20;
 /// One saved state.
 #[derive(Clone, Debug)]
 struct Checkpoint {
-    /// Updates run when it was taken (before that update's events).
+    /// Updates run when it was taken (after that update's scenario events,
+    /// before any a tool records then).
     updates: u64,
     bodies: Vec<BodyState>,
     next_id: u64,
