@@ -1001,8 +1001,8 @@ fn an_offscreen_render_run_needs_no_display() {
     assert!(rows.contains(",instanced,"), "{rows}");
 }
 
-/// A bad action script is one line of error, exit 2, before anything of
-/// the window starts (no renderer's log around it).
+/// A bad action script is one line of error naming the field, exit 2,
+/// before anything of the window starts (no renderer's log around it).
 #[test]
 fn a_bad_action_script_is_refused_before_the_window_starts() {
     if !window_available("a_bad_action_script_is_refused_before_the_window_starts") {
@@ -1024,4 +1024,5 @@ fn a_bad_action_script_is_refused_before_the_window_starts() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert_eq!(stderr.trim_end().lines().count(), 1, "not one line: {stderr}");
     assert!(stderr.contains("actions.ron"), "{stderr}");
+    assert!(stderr.contains("field `count`"), "which field: {stderr}");
 }

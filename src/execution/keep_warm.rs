@@ -51,15 +51,16 @@ impl KeepWarm {
         u64::try_from(self.origin.elapsed().as_nanos()).unwrap_or(u64::MAX)
     }
 
-    /// Called by the driving thread when a parallel step of `pool` ends on
-    /// a machine with `cores` hardware threads: moves the deadline and tops
-    /// the pollers up to one per other worker (see [`pollers`]).
-    pub fn after_step(self: &Arc<Self>, pool: &Arc<rayon::ThreadPool>, cores: usize) {
+    /// Called by the driving thread when a parallel step of `pool` ends,
+    /// one that ran on `runners` of its threads: moves the deadline and
+    /// tops the pollers up to one per runner other than the driver (see
+    /// [`pollers`]).
+    pub fn after_step(self: &Arc<Self>, pool: &Arc<rayon::ThreadPool>, runners: usize) {
         let deadline = self.now().saturating_add(WARM_FOR.as_nanos() as u64);
         self.until.store(deadline, Ordering::Relaxed);
         let driver = pool.current_thread_index().unwrap_or(usize::MAX);
         self.driver.store(driver, Ordering::Relaxed);
-        let wanted = pollers(pool.current_num_threads(), driver != usize::MAX, cores);
+        let wanted = pollers(runners, driver != usize::MAX);
         while self
             .polling
             .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| (n < wanted).then_some(n + 1))
@@ -97,14 +98,15 @@ impl KeepWarm {
     }
 }
 
-/// How many of a pool's `threads` workers poll after a step: one per
-/// hardware thread of the machine (`cores`) that the pool can fill, less
-/// the driver's where it is a worker. A pool with more workers than cores
-/// would otherwise keep every core polling, and the driver's serial work
-/// between the steps would wait for its turn on a core (16 workers on 2
-/// cores made a 10 000-body update 7 times slower than 2 workers).
-fn pollers(threads: usize, driver_is_a_worker: bool, cores: usize) -> usize {
-    threads.min(cores).saturating_sub(usize::from(driver_is_a_worker))
+/// How many workers poll after a step that ran on `runners` threads: one
+/// per runner, less the driver where it is one of them. A step runs on no
+/// more threads than the machine has (the pool's `runners`), so neither do
+/// the pollers: a pool with more workers than cores would otherwise keep
+/// every core polling, and the driver's serial work between the steps would
+/// wait for its turn on a core (16 workers on 2 cores made a 10 000-body
+/// update 7 times slower than 2 workers).
+fn pollers(runners: usize, driver_is_a_worker: bool) -> usize {
+    runners.saturating_sub(usize::from(driver_is_a_worker))
 }
 
 #[cfg(test)]
@@ -112,14 +114,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn no_more_workers_poll_than_the_machine_has_cores() {
-        assert_eq!(pollers(2, true, 2), 1);
-        assert_eq!(pollers(2, false, 2), 2);
-        assert_eq!(pollers(16, true, 2), 1);
-        assert_eq!(pollers(16, false, 2), 2);
-        assert_eq!(pollers(16, false, 16), 16);
-        assert_eq!(pollers(16, true, 16), 15);
-        assert_eq!(pollers(1, true, 1), 0);
+    fn no_more_workers_poll_than_a_step_runs_on() {
+        assert_eq!(pollers(2, true), 1);
+        assert_eq!(pollers(2, false), 2);
+        assert_eq!(pollers(16, true), 15);
+        assert_eq!(pollers(1, true), 0);
     }
 
     #[test]

@@ -248,9 +248,9 @@ impl Execution {
     }
 
     /// Runs `kernel` on contiguous chunks of `data` on the pool's threads
-    /// (about `chunks_per_thread` per thread, one item each when fine
-    /// grained, never fewer than `least` items but in the last) and returns
-    /// their results in input order.
+    /// (about `chunks_per_thread` per thread, never fewer than `least` items
+    /// but in the last; one item each when fine grained) and returns their
+    /// results in input order.
     fn map_split<S, R, K>(&self, data: S, chunks_per_thread: usize, least: usize, kernel: K) -> Vec<R>
     where
         S: Split,
@@ -263,19 +263,22 @@ impl Execution {
         }
         self.split_recently.store(true, Ordering::Relaxed);
         let runners = runners(self.threads(), self.hardware_threads);
+        // Fine grained: one-item chunks even where a step asks for more
+        // (the filing's), so every boundary is put to the test.
         let chunk = if self.fine_grained {
             1
         } else {
-            len.div_ceil(runners * chunks_per_thread)
-        }
-        .max(least);
+            len.div_ceil(runners * chunks_per_thread).max(least)
+        };
         if self.worker_pool == WorkerPool::Bevy {
+            // Bevy's pool is made with the threads asked for (if the app
+            // did not make it); the chunks are cut for the runners alike.
             return map_on_bevy(data, chunk, self.threads(), &kernel);
         }
         let claims = Claims::new(data, chunk, runners);
         self.pool.install(|| claims.run(&kernel));
         if let Some(warm) = &self.warm {
-            warm.after_step(&self.pool, self.hardware_threads);
+            warm.after_step(&self.pool, runners);
         }
         claims.into_results()
     }

@@ -12,11 +12,43 @@ pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &str, extensions: Exte
     ron::Options::default()
         .with_default_extension(extensions)
         .from_str(text)
-        .map_err(|e| InputError {
-            origin: origin.to_owned(),
-            location: Some((e.span.start.line, e.span.start.col)),
-            message: e.code.to_string(),
+        .map_err(|e| {
+            let (line, column) = (e.span.start.line, e.span.start.col);
+            let code = e.code.to_string();
+            // Our own checks name their field already.
+            let message = match field_before(text, line, column) {
+                Some(field) if !code.starts_with("field `") => format!("field `{field}`: {code}"),
+                _ => code,
+            };
+            InputError {
+                origin: origin.to_owned(),
+                location: Some((line, column)),
+                message,
+            }
         })
+}
+
+/// The field whose value holds `line`:`column` (1-based) of `text`, where
+/// the value follows `field:` on that line: RON's own messages ("Integer is
+/// out of bounds") do not say which field they mean.
+fn field_before(text: &str, line: usize, column: usize) -> Option<&str> {
+    let line_text = text.lines().nth(line.checked_sub(1)?)?;
+    let (end, at) = line_text.char_indices().nth(column.checked_sub(1)?)?;
+    // At a value (not at the end of a list or struct: a field missing).
+    if ")]},".contains(at) {
+        return None;
+    }
+    // Back over the value's start (a sign, digits), then `field:`.
+    let before = line_text[..end]
+        .trim_end_matches(|c: char| c.is_ascii_alphanumeric() || "._+-\"".contains(c))
+        .trim_end()
+        .strip_suffix(':')?
+        .trim_end();
+    let is_name = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let field = &before[before.rfind(|c: char| !is_name(c)).map_or(0, |at| at + 1)..];
+    field
+        .starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+        .then_some(field)
 }
 
 #[cfg(test)]
@@ -27,6 +59,31 @@ mod tests {
     #[expect(dead_code, reason = "only parsed")]
     struct Point {
         x: f32,
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    #[expect(dead_code, reason = "only parsed")]
+    enum Action {
+        Launch { count: u32, mass: f32 },
+    }
+
+    #[test]
+    fn errors_name_the_field_whose_value_is_wrong() {
+        for (text, field) in [
+            ("[Launch(count: -1, mass: 1)]", Some("count")),
+            ("[Launch(count: 99999999999, mass: 1)]", Some("count")),
+            ("[Launch(count: 2,\n  mass: \"heavy\")]", Some("mass")),
+            ("[Launch(count: 2, weight: 1)]", None),
+        ] {
+            let e = parse_ron::<Vec<Action>>(text, "a.ron", Extensions::empty()).unwrap_err();
+            match field {
+                Some(field) => assert!(e.message.starts_with(&format!("field `{field}`: ")), "{text}: {e}"),
+                None => assert!(!e.message.starts_with("field"), "{text}: {e}"),
+            }
+        }
+        // Columns count characters.
+        assert_eq!(field_before("(é: 1, x: -1)", 1, 12), Some("x"));
+        assert_eq!(field_before("(x: 1)", 9, 1), None);
     }
 
     #[test]
