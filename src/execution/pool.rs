@@ -114,6 +114,17 @@ impl Execution {
         self
     }
 
+    /// Leaves `others` of the machine's hardware threads to the host (at
+    /// least one is still used): a step runs on no more of the pool's
+    /// threads than the rest, and is cut for those. The window leaves one
+    /// to its drawing, which runs beside the simulation: a step that counted
+    /// on that core waited for a helper that had none (docs/design.md,
+    /// "Sequential and parallel").
+    pub fn leave_threads(self, others: usize) -> Self {
+        let threads = available_threads().saturating_sub(others);
+        self.as_if_hardware_threads(threads)
+    }
+
     /// The same execution on `pool`.
     pub fn with_pool(mut self, pool: WorkerPool) -> Self {
         self.set_pool(pool);
@@ -421,6 +432,20 @@ mod tests {
         );
         let flat: Vec<usize> = chunks.into_iter().flatten().collect();
         assert_eq!(flat, (0..10_007).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn a_host_keeps_the_threads_it_leaves_out_of_the_steps() {
+        let left = parallel(3).leave_threads(1);
+        let runners = 3.min(available_threads().saturating_sub(1)).max(1);
+        let chunks = always(&left).map_chunks(0..10_007, |r: Range<usize>| r);
+        assert_eq!(chunks.len(), runners * CHUNKS_PER_THREAD);
+        let all = parallel(3).leave_threads(1_000);
+        assert_eq!(
+            always(&all).map_chunks(0..10_007, |r: Range<usize>| r).len(),
+            CHUNKS_PER_THREAD,
+            "at least one thread runs"
+        );
     }
 
     #[test]

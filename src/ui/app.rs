@@ -25,6 +25,13 @@ use crate::timed_events::EventsPlugin;
 /// no core the drawing needs (ARCHITECTURE.md, "Parallel execution").
 const KEEP_WORKERS_WARM: bool = true;
 
+/// Hardware threads the simulation's steps leave to the drawing, which runs
+/// beside them (Bevy renders a frame while the next one simulates): on 2
+/// cores with a software renderer, steps on both cores made the parallel
+/// simulation reach 0.5–0.8 of sequential's updates a second, one thread
+/// less the same as sequential (docs/benchmarks.md, Table 5).
+const THREADS_FOR_THE_DRAWING: usize = 1;
+
 /// Opens the window and runs until it is closed (or a scripted run ends).
 pub fn run(options: WindowOptions) -> Result<(), WindowError> {
     let Start {
@@ -38,7 +45,8 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
     let execution = settings
         .execution()
         .build(crate::calibration::machine_auto_split())?
-        .with_keep_warm(KEEP_WORKERS_WARM);
+        .with_keep_warm(KEEP_WORKERS_WARM)
+        .leave_threads(THREADS_FOR_THE_DRAWING);
     let present_mode = present_mode(settings.vsync);
     let mut state = SandboxState::new(scenario, &settings);
     state.paused = options.paused;
