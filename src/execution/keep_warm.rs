@@ -164,7 +164,7 @@ mod tests {
         let pool = Arc::new(rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap());
         let warm = Arc::new(KeepWarm::default());
         let sum: u64 = pool.install(|| {
-            warm.after_step(&pool, 3);
+            warm.after_step(&pool, 2);
             let (a, b) = rayon::join(|| (0..1000u64).sum::<u64>(), || (1000..2000u64).sum::<u64>());
             a + b
         });

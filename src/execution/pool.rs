@@ -232,6 +232,13 @@ impl Execution {
         }
     }
 
+    /// Threads a parallel step on Kessler's pool runs on and is cut for:
+    /// its threads, no more than the hardware threads left to the steps
+    /// ([`leave_threads`](Self::leave_threads)).
+    pub fn step_threads(&self) -> usize {
+        runners(self.threads(), self.hardware_threads)
+    }
+
     /// Replaces the worker pool; a no-op if the count is unchanged.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), ExecutionError> {
         if threads != self.threads() {

@@ -27,8 +27,8 @@ pub struct Snapshot<'a> {
     pub bodies: &'a [BodyState],
     /// The id the next fresh body gets.
     pub next_id: u64,
-    /// The events still to come, counted from now (update 0: before the
-    /// next update).
+    /// The events still to come, counted from now (update 0: the events of
+    /// the snapshot's own update are done).
     pub events: &'a [Event],
     /// The events to come that the run will skip for certain, left out of
     /// `events`, each with why (said in a comment line).

@@ -36,15 +36,12 @@ pub struct ChunkCount {
 /// the last of the most a grid has (its index does not fit below this).
 const WORK_OUT_AGAIN: u16 = u16::MAX;
 
-/// Kernel: the corners and extents of the boxes in `range` whose index is
-/// a multiple of `stride` (so the sample does not depend on how the boxes
-/// are cut into chunks). Reads only those boxes.
-pub fn corner_sample<B: BoxSource + ?Sized>(boxes: &B, range: Range<usize>, stride: usize) -> Vec<SampledBox> {
-    let stride = stride.max(1);
-    // The first multiple of `stride` in the range.
-    let first = range.start.div_ceil(stride) * stride;
-    (first..range.end)
-        .step_by(stride)
+/// Kernel: the corners and extents of the boxes whose index is a multiple
+/// of `stride`. Reads only those boxes, whole (a few hundred: less than a
+/// parallel step's hand-off costs).
+pub fn corner_sample<B: BoxSource + ?Sized>(boxes: &B, stride: usize) -> Vec<SampledBox> {
+    (0..boxes.len())
+        .step_by(stride.max(1))
         .map(|i| {
             let b = boxes.get(i);
             SampledBox {

@@ -69,19 +69,19 @@ impl SortedBoxes {
 /// a million boxes, 64 chunks for 16 threads cost a million slots).
 const BOXES_PER_COUNTED_CELL: usize = 4;
 
-/// Sorts `boxes` into `sorted`, reusing its buffers: the bounds of the
-/// boxes' lower y–z corners, the grid fitted to them, the filing by cell
+/// Sorts `boxes` into `sorted`, reusing its buffers: an even sample of
+/// the boxes' lower y–z corners, the grid fitted to them, the filing by cell
 /// (counted by chunks of boxes, laid out, placed by the same chunks), then
 /// the ordering of each cell on x where it lies (by chunks of cells), each
 /// step whole or in chunks as `stage` says.
 pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
     // An even sample of the corners to fit the grid to their bulk: a few
     // far-flung boxes must not stretch it. Their true bounds only where
-    // the sample cannot place the grid alone.
+    // the sample cannot place the grid alone. The sample (at most
+    // GRID_SAMPLES boxes) is read whole: cut into chunks, the grid's fit
+    // took 25 µs against 18 at 10 000 boxes on 2 threads.
     let stride = boxes.len() / GRID_SAMPLES + 1;
-    let sample: Vec<SampledBox> = stage
-        .map_chunks(0..boxes.len(), |range| corner_sample(boxes, range, stride))
-        .concat();
+    let sample: Vec<SampledBox> = corner_sample(boxes, stride);
     let grid = Grid::fit_to_bulk(&sample, boxes.len(), || {
         stage
             .map_chunks(0..boxes.len(), |range| corner_bounds(boxes, range))

@@ -9,7 +9,7 @@ use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use super::cascade::{Cascade, totals_readout};
 use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
-use crate::execution::{ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, WorkerPool};
+use crate::execution::{Execution, ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, WorkerPool};
 use crate::maths::Rng;
 use crate::resources::DrawMethod;
 use crate::resources::{AUTO_TREE_FROM, CollisionDetection, DEFAULT_THETA, FragmentSizes, GravityMethod, Integrator};
@@ -73,6 +73,7 @@ fn panel(
         Res<Checkpoints>,
         Res<SimulationFault>,
     ),
+    running: Res<Execution>,
     mut session_field: Local<SessionField>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
@@ -104,7 +105,7 @@ fn panel(
                 ui.label(format!("scenario: {}", state.scenario.origin));
                 run_controls(ui, &mut edited, &mut state);
                 ui.separator();
-                execution(ui, &mut edited);
+                execution(ui, &mut edited, &running);
                 ui.separator();
                 physics(ui, &mut edited);
                 totals_readout(ui, &cascade.totals, &cascade.absorbed);
@@ -166,7 +167,10 @@ fn run_controls(ui: &mut egui::Ui, settings: &mut SandboxSettings, state: &mut S
     );
 }
 
-fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
+/// The execution settings, and the threads the steps really run on where
+/// that is fewer than asked (the window leaves a core to the drawing; a
+/// step runs on no more threads than the machine has).
+fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings, running: &Execution) {
     ui.label("Execution");
     ui.horizontal(|ui| {
         ui.radio_value(&mut settings.mode, ExecutionMode::Sequential, "sequential");
@@ -177,6 +181,10 @@ fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         parallel,
         slider(&mut settings.threads, 1..=max_threads()).text("threads"),
     );
+    if let Some(note) = fewer_threads_note(settings, running) {
+        ui.label(note)
+            .on_hover_text("a step runs on no more threads than the hardware threads left to it");
+    }
     ui.add_enabled_ui(parallel, |ui| split_policy(ui, &mut settings.split));
     ui.add_enabled_ui(parallel, |ui| {
         ui.horizontal(|ui| {
@@ -188,6 +196,17 @@ fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
                 .on_hover_text("Bevy's ComputeTaskPool, shared with the app; its threads are fixed at start");
         });
     });
+}
+
+/// What the panel says where parallel steps on Kessler's pool run on fewer
+/// threads than `settings` ask for (and `running` has applied them).
+fn fewer_threads_note(settings: &SandboxSettings, running: &Execution) -> Option<String> {
+    let applied = settings.mode == ExecutionMode::Parallel
+        && settings.pool == WorkerPool::Kessler
+        && running.pool() == WorkerPool::Kessler
+        && running.threads() == settings.threads;
+    let on = running.step_threads();
+    (applied && on < settings.threads).then(|| format!("steps run on {on} of them: the cores beside the drawing"))
 }
 
 /// The split policy: auto (this machine's calibration), always, or from a
@@ -676,17 +695,47 @@ mod tests {
         let mut settings = loaded.clone();
         let mut state = SandboxState::new(crate::scenario::Scenario::builtin_default(), &settings);
         let (mut path_field, mut files) = (String::new(), Some(Vec::new()));
+        let running = Execution::new(ExecutionMode::Parallel, 2).unwrap();
         let ctx = egui::Context::default();
         for _ in 0..3 {
             let _ = ctx.run_ui(egui::RawInput::default(), |ui| {
                 run_controls(ui, &mut settings, &mut state);
-                execution(ui, &mut settings);
+                execution(ui, &mut settings, &running);
                 physics(ui, &mut settings);
                 scene(ui, &mut settings, &mut state, &mut path_field, &mut files);
                 rendering(ui, &mut settings);
             });
         }
         assert_eq!(settings, loaded);
+    }
+
+    #[test]
+    fn the_panel_says_when_steps_run_on_fewer_threads_than_asked() {
+        let settings = SandboxSettings {
+            mode: ExecutionMode::Parallel,
+            threads: 3,
+            pool: WorkerPool::Kessler,
+            ..SandboxSettings::default()
+        };
+        let running = |cores: usize| {
+            Execution::new(ExecutionMode::Parallel, 3)
+                .unwrap()
+                .as_if_hardware_threads(cores)
+        };
+        let note = fewer_threads_note(&settings, &running(2));
+        assert_eq!(
+            note.as_deref(),
+            Some("steps run on 2 of them: the cores beside the drawing")
+        );
+        assert_eq!(fewer_threads_note(&settings, &running(4)), None, "all three run");
+        let sequential = SandboxSettings {
+            mode: ExecutionMode::Sequential,
+            ..settings.clone()
+        };
+        assert_eq!(fewer_threads_note(&sequential, &running(1)), None);
+        // Not yet applied: the pool still has its old thread count.
+        let asked_more = SandboxSettings { threads: 5, ..settings };
+        assert_eq!(fewer_threads_note(&asked_more, &running(2)), None);
     }
 
     #[test]
