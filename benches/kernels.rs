@@ -13,7 +13,7 @@ use kessler::physics::{Aabb, fragments};
 use kessler::resources::{GravityMethod, Integrator};
 use kessler::systems::{
     ContactBody, GravitySource, Octree, Pull, PullScratch, SortedBoxes, gravity_kernel, prepare_pull, respond,
-    sweep_and_prune,
+    sort_boxes, sweep_and_prune,
 };
 
 const COUNTS: [usize; 3] = [1_000, 10_000, 100_000];
@@ -268,6 +268,62 @@ fn dispatch(c: &mut Criterion) {
     group.finish();
 }
 
+/// The sort stage (sequential) beside what this machine's memory allows
+/// for the same boxes: one read of every box in order, the boxes written
+/// to their cells (cells known, 28 bytes a box: the filing's scattered
+/// writes alone), and one copy of the filing. docs/benchmarks.md, "The
+/// update near its limit", compares them.
+fn sort_against_memory(c: &mut Criterion) {
+    /// A filed box as the sort writes it: index and corners.
+    #[derive(Clone, Copy, Default)]
+    struct Filed {
+        _index: u32,
+        _corners: [f32; 6],
+    }
+    let mut group = c.benchmark_group("sort_against_memory");
+    group.sample_size(10);
+    for count in [10_000, 1_000_000] {
+        let boxes: Vec<Aabb> = centers(count).into_iter().map(|p| Aabb::new(p, Vec3::ONE)).collect();
+        let exec = execution(ExecutionMode::Sequential);
+        let mut sorted = SortedBoxes::default();
+        group.bench_with_input(BenchmarkId::new("sort", count), &count, |b, _| {
+            b.iter(|| sort_boxes(boxes.as_slice(), exec.for_stage("sort", count), &mut sorted))
+        });
+        group.bench_with_input(BenchmarkId::new("read_in_order", count), &count, |b, _| {
+            b.iter(|| boxes.iter().map(|b| b.min.y + b.max.z).sum::<f32>())
+        });
+        // The grid the sort fits: about 64 boxes a cell over y and z.
+        let side = ((count / 64) as f64).sqrt() as usize;
+        let axis = |v: f32| (((v - 1.0) / 4999.0 * side as f32) as usize).min(side - 1);
+        let cells: Vec<usize> = boxes.iter().map(|b| axis(b.min.y) * side + axis(b.min.z)).collect();
+        let mut starts = vec![0; side * side + 1];
+        for &cell in &cells {
+            starts[cell + 1] += 1;
+        }
+        for cell in 0..side * side {
+            starts[cell + 1] += starts[cell];
+        }
+        let mut filing = vec![Filed::default(); count];
+        group.bench_with_input(BenchmarkId::new("write_to_cells", count), &count, |b, _| {
+            b.iter(|| {
+                let mut next = starts.clone();
+                for (i, (b, &cell)) in boxes.iter().zip(&cells).enumerate() {
+                    filing[next[cell]] = Filed {
+                        _index: i as u32,
+                        _corners: [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z],
+                    };
+                    next[cell] += 1;
+                }
+            })
+        });
+        let mut copy = filing.clone();
+        group.bench_with_input(BenchmarkId::new("copy_filing", count), &count, |b, _| {
+            b.iter(|| copy.copy_from_slice(&filing))
+        });
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
     gravity,
@@ -277,6 +333,7 @@ criterion_group!(
     sweep,
     response,
     shatter,
-    dispatch
+    dispatch,
+    sort_against_memory
 );
 criterion_main!(benches);

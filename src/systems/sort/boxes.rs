@@ -109,12 +109,10 @@ impl<'a, const SWEPT: bool> BodyColumns<'a, SWEPT> {
     /// The table and row of the body with this index.
     #[inline]
     fn locate(&self, index: usize) -> (usize, usize) {
-        // Bodies usually share one table; then this is one comparison.
-        let table = if self.starts.len() == 1 {
-            0
-        } else {
-            self.starts.partition_point(|&s| s <= index) - 1
-        };
+        // Bodies lie in one table or a few (the planet's, a marker's): the
+        // tables that start at or before the index, counted without
+        // branching, where a search's branches went either way.
+        let table = self.starts[1..].iter().map(|&s| usize::from(s <= index)).sum::<usize>();
         (table, index - self.starts[table])
     }
 

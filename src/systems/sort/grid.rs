@@ -170,11 +170,171 @@ impl Grid {
     pub fn owner(&self, a: &Aabb, b: &Aabb) -> u32 {
         self.cell(a.min.y.max(b.min.y), a.min.z.max(b.min.z))
     }
+
+    /// Where each cell begins on y and on z, exactly: see [`CellBounds`].
+    pub fn bounds(&self) -> CellBounds {
+        let axis = |lo: f32, scale: f32| {
+            (0..=self.cells_per_axis)
+                .map(|k| self.first_at_least(k, lo, scale))
+                .collect()
+        };
+        CellBounds {
+            y: axis(self.lo.x, self.scale.x),
+            z: axis(self.lo.y, self.scale.y),
+            cells_per_axis: self.cells_per_axis,
+        }
+    }
+
+    /// The least finite value whose coordinate on the axis is at least `k`
+    /// (−∞ for 0; +∞ where none is): a search over the floats in order, as
+    /// the coordinate never falls as the value grows.
+    fn first_at_least(&self, k: u32, lo: f32, scale: f32) -> f32 {
+        if k == 0 {
+            return f32::NEG_INFINITY;
+        }
+        let reaches = |key: u32| self.coordinate(from_order_key(key), lo, scale) >= k;
+        let (mut below, mut at) = (order_key(f32::MIN), order_key(f32::MAX));
+        if k >= self.cells_per_axis || !reaches(at) {
+            return f32::INFINITY;
+        }
+        if reaches(below) {
+            return f32::MIN;
+        }
+        // `below` never reaches k, `at` does.
+        while at - below > 1 {
+            let mid = below + (at - below) / 2;
+            if reaches(mid) {
+                at = mid;
+            } else {
+                below = mid;
+            }
+        }
+        from_order_key(at)
+    }
+}
+
+/// A float's place among all floats as an integer (ordered as the values
+/// for all non-NaN floats; −0 just below +0).
+fn order_key(x: f32) -> u32 {
+    let bits = x.to_bits();
+    if bits & 0x8000_0000 != 0 {
+        !bits
+    } else {
+        bits | 0x8000_0000
+    }
+}
+
+/// The float with this [`order_key`].
+fn from_order_key(key: u32) -> f32 {
+    f32::from_bits(if key & 0x8000_0000 != 0 {
+        key & 0x7fff_ffff
+    } else {
+        !key
+    })
+}
+
+/// A grid's cells as ranges of values: cell `(y, z)` holds exactly the
+/// values `y[k] <= v < y[k + 1]` on y (its coordinate is `k`), likewise
+/// on z. So whether a box covers one given cell only is four comparisons
+/// instead of four coordinates worked out; a NaN or infinite corner never
+/// passes them, and such a box is filed the long way.
+#[derive(Clone, Debug, Default)]
+pub struct CellBounds {
+    y: Vec<f32>,
+    z: Vec<f32>,
+    cells_per_axis: u32,
+}
+
+impl CellBounds {
+    /// The values `cell` holds.
+    #[inline]
+    pub fn cell(&self, cell: u32) -> CellRange {
+        let (y, z) = (
+            (cell / self.cells_per_axis) as usize,
+            (cell % self.cells_per_axis) as usize,
+        );
+        CellRange {
+            lo: Vec2::new(self.y[y], self.z[z]),
+            hi: Vec2::new(self.y[y + 1], self.z[z + 1]),
+        }
+    }
+
+    /// Whether the box's y–z extent covers `cell` and no other cell.
+    pub fn only_in(&self, cell: u32, b: &Aabb) -> bool {
+        self.cell(cell).holds(b)
+    }
+}
+
+/// The y–z values one cell holds: `lo <= v < hi` on each axis.
+#[derive(Clone, Copy, Debug)]
+pub struct CellRange {
+    lo: Vec2,
+    hi: Vec2,
+}
+
+impl CellRange {
+    /// Whether the box's y–z extent lies in this cell alone.
+    #[inline]
+    pub fn holds(&self, b: &Aabb) -> bool {
+        self.lo.x <= b.min.y && b.max.y < self.hi.x && self.lo.y <= b.min.z && b.max.z < self.hi.y
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cell_bounds_agree_with_the_cells_a_box_is_filed_in() {
+        let mut rng = crate::maths::Rng::new(5);
+        // A grid with an odd origin and scale, one flat on z, one of 256².
+        let grids = [
+            Grid::fit(Vec2::new(-3.7, 11.3), Vec2::new(401.9, 733.1), BOXES_PER_CELL * 300),
+            Grid::fit(Vec2::new(0.0, 5.0), Vec2::new(10.0, 5.0), BOXES_PER_CELL * 16),
+            Grid::fit(Vec2::ZERO, Vec2::splat(256.0), BOXES_PER_CELL * 65_536),
+        ];
+        for grid in grids {
+            let bounds = grid.bounds();
+            let mut boxes: Vec<Aabb> = (0..4_000)
+                .map(|_| {
+                    let at = Vec3::new(0.0, rng.range(-50.0, 800.0) as f32, rng.range(-50.0, 800.0) as f32);
+                    Aabb::new(at, Vec3::splat(rng.range(0.0, 3.0) as f32))
+                })
+                .collect();
+            // Corners right on the cells' edges, and beyond any.
+            for k in 0..=grid.cells_per_axis as usize {
+                for v in [bounds.y[k], bounds.z[k]].into_iter().filter(|v| v.is_finite()) {
+                    for w in [v.next_down(), v, v.next_up()] {
+                        boxes.push(Aabb {
+                            min: Vec3::new(0.0, w, w),
+                            max: Vec3::new(0.0, w, w),
+                        });
+                    }
+                }
+            }
+            for v in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX, f32::MIN] {
+                boxes.push(Aabb {
+                    min: Vec3::new(0.0, v, 1.0),
+                    max: Vec3::new(0.0, v, 1.0),
+                });
+            }
+            for b in &boxes {
+                let mut cells = Vec::new();
+                grid.for_each_cell(b, |c| cells.push(c));
+                for cell in 0..grid.cell_count() as u32 {
+                    let only = cells == [cell];
+                    // Never in a cell it is not only in; in its one cell
+                    // whenever its corners are finite.
+                    if bounds.only_in(cell, b) {
+                        assert!(only, "{b:?} in cell {cell} of {cells:?}");
+                    } else if only {
+                        let finite = [b.min.y, b.min.z, b.max.y, b.max.z].iter().all(|v| v.is_finite());
+                        assert!(!finite, "{b:?} not found in its cell {cell}");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn a_box_spanning_cells_is_filed_in_each_and_owned_once() {

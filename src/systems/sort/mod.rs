@@ -27,6 +27,7 @@ mod boxes;
 mod filing;
 mod grid;
 mod ordering;
+mod repair;
 mod sorted_boxes;
 
 use bevy::prelude::*;

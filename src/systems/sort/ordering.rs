@@ -7,7 +7,7 @@ use crate::execution::Split;
 
 /// Maps an f32 to a u32 with the same order (for all non-NaN values).
 #[inline]
-fn order_key(x: f32) -> u32 {
+pub(super) fn order_key(x: f32) -> u32 {
     let bits = x.to_bits();
     if bits & 0x8000_0000 != 0 {
         !bits
@@ -16,10 +16,19 @@ fn order_key(x: f32) -> u32 {
     }
 }
 
+/// A filed box's place in sweep order: the order key of its lower x bound
+/// above its index in the input, so that ties go by input order.
+#[inline]
+pub(super) fn sweep_key(b: &CellBox) -> u64 {
+    (u64::from(order_key(b.aabb.min.x)) << 32) | u64::from(b.index)
+}
+
 /// Contiguous cells of the filing and their boxes: the `c`-th cell holds
 /// `boxes[starts[c] - starts[0]..starts[c + 1] - starts[0]]`. Cut by
 /// cells, so that chunks of cells order their boxes side by side.
 pub struct CellRuns<'a> {
+    /// The grid cell of the first run.
+    first: usize,
     starts: &'a [u32],
     boxes: &'a mut [CellBox],
 }
@@ -28,7 +37,21 @@ impl<'a> CellRuns<'a> {
     /// Every cell of a filing: `starts` has one entry per cell and one
     /// more, and `boxes` is as long as its last says.
     pub fn new(starts: &'a [u32], boxes: &'a mut [CellBox]) -> Self {
-        Self { starts, boxes }
+        Self {
+            first: 0,
+            starts,
+            boxes,
+        }
+    }
+
+    /// Each cell (its index in the grid) and its boxes, in order.
+    pub fn cells(self) -> impl Iterator<Item = (usize, &'a mut [CellBox])> {
+        let (first, mut rest) = (self.first, self.boxes);
+        self.starts.windows(2).enumerate().map(move |(k, run)| {
+            let (boxes, after) = std::mem::take(&mut rest).split_at_mut((run[1] - run[0]) as usize);
+            rest = after;
+            (first + k, boxes)
+        })
     }
 }
 
@@ -42,10 +65,12 @@ impl Split for CellRuns<'_> {
         let (first, second) = self.boxes.split_at_mut(cut);
         (
             Self {
+                first: self.first,
                 starts: &self.starts[..=mid],
                 boxes: first,
             },
             Self {
+                first: self.first + mid,
                 starts: &self.starts[mid..],
                 boxes: second,
             },
@@ -60,14 +85,11 @@ pub fn order_cells(runs: CellRuns<'_>) {
     // threads, see `memory/heap.rs`) a few times a chunk.
     let fullest = runs.starts.windows(2).map(|run| run[1] - run[0]).max().unwrap_or(0) as usize;
     let (mut keys, mut ordered) = (Vec::with_capacity(fullest), Vec::with_capacity(fullest));
-    let mut rest = runs.boxes;
-    for run in runs.starts.windows(2) {
-        let (boxes, after) = rest.split_at_mut((run[1] - run[0]) as usize);
+    for (_, boxes) in runs.cells() {
         sweep_keys(boxes, &mut keys);
         ordered.clear();
         ordered.extend(keys.iter().map(|&key| boxes[key as u32 as usize]));
         boxes.copy_from_slice(&ordered);
-        rest = after;
     }
 }
 
