@@ -17,7 +17,7 @@
 use super::BoxSource;
 use super::filing::CellBox;
 use super::grid::{CellBounds, Grid};
-use super::ordering::{CellRuns, sweep_key};
+use super::ordering::{CellRuns, order_cells, sweep_key};
 
 /// What [`keep_stayers`] found in one run of cells.
 #[derive(Default)]
@@ -79,28 +79,50 @@ pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, bounds: &CellBounds, runs:
     found
 }
 
-/// The boxes to file afresh: every index in `left` (sorted and made
-/// unique here) and every index from `old_len` to the input's end (new
-/// bodies), each under every cell it covers, into `out` as `(cell, box)`
-/// sorted by cell, then sweep order.
+/// The boxes to file afresh, filed as a fresh sort files them: every
+/// index in `left` (sorted and made unique here) and every index from
+/// `old_len` to the input's end (new bodies), each under every cell it
+/// covers. Noted in index order into `noted`, counted into `starts` (cell
+/// `c`'s arrivals are `filed[starts[c]..starts[c + 1]]`), placed by cell
+/// into `filed` (in index order within a cell) and each cell put in sweep
+/// order, as the fresh sort does.
 pub fn file_afresh<B: BoxSource + ?Sized>(
     boxes: &B,
     grid: &Grid,
     left: &mut Vec<u32>,
     old_len: usize,
-    out: &mut Vec<(u32, CellBox)>,
+    noted: &mut Vec<(u32, CellBox)>,
+    starts: &mut Vec<u32>,
+    filed: &mut Vec<CellBox>,
 ) {
     left.sort_unstable();
     left.dedup();
-    out.clear();
-    let mut file = |index: u32, aabb| grid.for_each_cell(&aabb, |cell| out.push((cell, CellBox { index, aabb })));
+    noted.clear();
+    let mut file = |index: u32, aabb| grid.for_each_cell(&aabb, |cell| noted.push((cell, CellBox { index, aabb })));
     for &index in left.iter() {
         file(index, boxes.get(index as usize));
     }
+    // New bodies come after every old index.
     boxes.for_each_in(old_len.min(boxes.len())..boxes.len(), |index, aabb| {
         file(index as u32, aabb)
     });
-    out.sort_unstable_by_key(|(cell, b)| (*cell, sweep_key(b)));
+    starts.clear();
+    starts.resize(grid.cell_count() + 1, 0);
+    for &(cell, _) in noted.iter() {
+        starts[cell as usize + 1] += 1;
+    }
+    for cell in 0..grid.cell_count() {
+        starts[cell + 1] += starts[cell];
+    }
+    filed.clear();
+    filed.resize(noted.len(), CellBox::default());
+    let mut next: Vec<u32> = starts[..grid.cell_count()].to_vec();
+    for &(cell, b) in noted.iter() {
+        let slot = &mut next[cell as usize];
+        filed[*slot as usize] = b;
+        *slot += 1;
+    }
+    order_cells(CellRuns::new(starts, filed));
 }
 
 /// Kernel: each cell of `runs` (the new filing) filled by merging its
@@ -109,7 +131,7 @@ pub fn file_afresh<B: BoxSource + ?Sized>(
 pub fn merge_cells<'a>(
     runs: CellRuns<'_>,
     stayers: impl Fn(usize) -> &'a [CellBox],
-    arrivals: impl Fn(usize) -> &'a [(u32, CellBox)],
+    arrivals: impl Fn(usize) -> &'a [CellBox],
 ) {
     for (cell, out) in runs.cells() {
         let (stay, arrive) = (stayers(cell), arrivals(cell));
@@ -119,12 +141,12 @@ pub fn merge_cells<'a>(
         }
         let (mut s, mut a) = (0, 0);
         for slot in out {
-            let from_stayers = a == arrive.len() || (s < stay.len() && sweep_key(&stay[s]) < sweep_key(&arrive[a].1));
+            let from_stayers = a == arrive.len() || (s < stay.len() && sweep_key(&stay[s]) < sweep_key(&arrive[a]));
             if from_stayers {
                 *slot = stay[s];
                 s += 1;
             } else {
-                *slot = arrive[a].1;
+                *slot = arrive[a];
                 a += 1;
             }
         }
