@@ -2,6 +2,7 @@
 
 use bevy::prelude::*;
 
+use crate::maths::{from_order_key, order_key};
 use crate::physics::Aabb;
 
 /// Boxes per grid cell the grid aims for.
@@ -213,26 +214,6 @@ impl Grid {
     }
 }
 
-/// A float's place among all floats as an integer (ordered as the values
-/// for all non-NaN floats; −0 just below +0).
-fn order_key(x: f32) -> u32 {
-    let bits = x.to_bits();
-    if bits & 0x8000_0000 != 0 {
-        !bits
-    } else {
-        bits | 0x8000_0000
-    }
-}
-
-/// The float with this [`order_key`].
-fn from_order_key(key: u32) -> f32 {
-    f32::from_bits(if key & 0x8000_0000 != 0 {
-        key & 0x7fff_ffff
-    } else {
-        !key
-    })
-}
-
 /// A grid's cells as ranges of values: cell `(y, z)` holds exactly the
 /// values `y[k] <= v < y[k + 1]` on y (its coordinate is `k`), likewise
 /// on z. So whether a box covers one given cell only is four comparisons
@@ -257,11 +238,6 @@ impl CellBounds {
             lo: Vec2::new(self.y[y], self.z[z]),
             hi: Vec2::new(self.y[y + 1], self.z[z + 1]),
         }
-    }
-
-    /// Whether the box's y–z extent covers `cell` and no other cell.
-    pub fn only_in(&self, cell: u32, b: &Aabb) -> bool {
-        self.cell(cell).holds(b)
     }
 }
 
@@ -325,7 +301,7 @@ mod tests {
                     let only = cells == [cell];
                     // Never in a cell it is not only in; in its one cell
                     // whenever its corners are finite.
-                    if bounds.only_in(cell, b) {
+                    if bounds.cell(cell).holds(b) {
                         assert!(only, "{b:?} in cell {cell} of {cells:?}");
                     } else if only {
                         let finite = [b.min.y, b.min.z, b.max.y, b.max.z].iter().all(|v| v.is_finite());

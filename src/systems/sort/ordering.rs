@@ -4,17 +4,7 @@
 
 use super::filing::CellBox;
 use crate::execution::Split;
-
-/// Maps an f32 to a u32 with the same order (for all non-NaN values).
-#[inline]
-pub(super) fn order_key(x: f32) -> u32 {
-    let bits = x.to_bits();
-    if bits & 0x8000_0000 != 0 {
-        !bits
-    } else {
-        bits | 0x8000_0000
-    }
-}
+use crate::maths::order_key;
 
 /// A filed box's place in sweep order: the order key of its lower x bound
 /// above its index in the input, so that ties go by input order.
@@ -113,14 +103,6 @@ mod tests {
 
     use super::*;
     use crate::physics::Aabb;
-
-    #[test]
-    fn order_key_preserves_float_order() {
-        let xs = [-1e30f32, -5.0, -1.0, -0.0, 0.0, 1e-40, 1.0, 2.5, 1e30];
-        for w in xs.windows(2) {
-            assert!(order_key(w[0]) <= order_key(w[1]), "{} vs {}", w[0], w[1]);
-        }
-    }
 
     #[test]
     fn cells_are_ordered_on_x_with_ties_in_input_order_however_they_are_cut() {

@@ -262,6 +262,7 @@ impl<T: Default> Spare<T> {
         self.0.into_inner().unwrap_or_else(PoisonError::into_inner)
     }
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -290,10 +291,6 @@ mod tests {
         }
     }
 
-    /// Boxes drifting a little each update, a few jumping far, a few
-    /// growing over several cells, bodies leaving and arriving: every
-    /// repaired filing is the fresh filing on its grid, sequential and
-    /// split alike, and most updates are repairs.
     #[test]
     fn past_the_repairs_limit_every_sort_is_fresh_and_keeps_one_filing() {
         let execution = Execution::new(ExecutionMode::Sequential, 1).unwrap();
@@ -331,6 +328,10 @@ mod tests {
         assert_eq!(repairs, [1, REFIT_EVERY + 1]);
     }
 
+    /// Boxes drifting a little each update, a few jumping far, a few
+    /// growing over several cells, bodies leaving and arriving: every
+    /// repaired filing is the fresh filing on its grid, sequential and
+    /// split alike, and most updates are repairs.
     #[test]
     fn a_repaired_filing_is_the_fresh_filing_on_its_grid() {
         for execution in [
