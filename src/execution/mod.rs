@@ -56,6 +56,7 @@ mod mode;
 mod policy;
 mod pool;
 mod split;
+mod thread_copies;
 mod worker_pool;
 
 pub use keep_warm::WARM_FOR;
@@ -63,4 +64,5 @@ pub use mode::ExecutionMode;
 pub use policy::{AutoSplit, BadSplitPolicy, FALLBACK_SPLIT_FROM, SplitPolicy};
 pub use pool::{Execution, ExecutionError, MAX_THREADS, StageExecution, available_threads};
 pub use split::Split;
+pub use thread_copies::ThreadCopies;
 pub use worker_pool::WorkerPool;

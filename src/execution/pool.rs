@@ -322,6 +322,11 @@ impl StageExecution<'_> {
         self.execution.worker_pool
     }
 
+    /// Threads of the pool the split steps run on.
+    pub fn threads(&self) -> usize {
+        self.execution.threads()
+    }
+
     /// Runs `kernel` over `data`: whole, on this thread, unless the stage
     /// splits; then on contiguous chunks in the worker pool.
     pub fn for_chunks<S, K>(&self, data: S, kernel: K)

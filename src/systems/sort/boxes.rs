@@ -20,6 +20,13 @@ pub trait BoxSource: Sync {
     /// The box with this index (`index < len()`).
     fn get(&self, index: usize) -> Aabb;
 
+    /// The boxes of `range`, in order, written into `out` (as long as the
+    /// range).
+    fn copy_into(&self, range: Range<usize>, out: &mut [Aabb]) {
+        let first = range.start;
+        self.for_each_in(range, |index, aabb| out[index - first] = aabb);
+    }
+
     /// True when there are no boxes.
     fn is_empty(&self) -> bool {
         self.len() == 0
@@ -42,6 +49,10 @@ impl BoxSource for [Aabb] {
     #[inline]
     fn get(&self, index: usize) -> Aabb {
         self[index]
+    }
+
+    fn copy_into(&self, range: Range<usize>, out: &mut [Aabb]) {
+        out.copy_from_slice(&self[range]);
     }
 }
 
@@ -147,6 +158,29 @@ impl<const SWEPT: bool> BoxSource for BodyColumns<'_, SWEPT> {
             } else {
                 for (k, (p, h)) in positions.iter().zip(halves).enumerate() {
                     f(from + k, Aabb::new(p.0, h.0));
+                }
+            }
+        }
+    }
+
+    /// Table by table, each a loop over its columns alone.
+    fn copy_into(&self, range: Range<usize>, out: &mut [Aabb]) {
+        for (&start, &(_, _, positions, previous, halves)) in self.starts.iter().zip(&self.tables) {
+            let end = start + positions.len();
+            let (from, to) = (range.start.max(start), range.end.min(end));
+            if from >= to {
+                continue;
+            }
+            let (rows, out) = (from - start..to - start, &mut out[from - range.start..to - range.start]);
+            let (positions, halves) = (&positions[rows.clone()], &halves[rows.clone()]);
+            if SWEPT {
+                let bodies = positions.iter().zip(&previous[rows]).zip(halves);
+                for (slot, ((p, q), h)) in out.iter_mut().zip(bodies) {
+                    *slot = swept_box(q.0, p.0, h.0);
+                }
+            } else {
+                for (slot, (p, h)) in out.iter_mut().zip(positions.iter().zip(halves)) {
+                    *slot = Aabb::new(p.0, h.0);
                 }
             }
         }

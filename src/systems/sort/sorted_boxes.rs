@@ -15,14 +15,16 @@ use super::filing::{
 use super::grid::{CellBounds, GRID_SAMPLES, Grid, SampledBox};
 use super::ordering::{CellRuns, order_cells};
 use super::repair::{file_afresh, keep_stayers, merge_cells};
-use crate::execution::StageExecution;
+use crate::execution::{StageExecution, ThreadCopies};
+use crate::physics::Aabb;
 
 /// The sort stage's result: the grid and every cell's boxes in sweep
 /// order, in one array, cell after cell. Its buffers are kept and reused
 /// by the next sort, so that a million boxes do not fault in fresh pages
 /// every update: about 32 bytes per box (a box is filed once per cell it
 /// covers, mostly one), run whole or split; up to [`REPAIR_UP_TO`] boxes,
-/// as much again for the repair's second filing.
+/// as much again for the repair's second filing and 24 bytes a box for its
+/// copy of the boxes.
 #[derive(Resource, Default)]
 pub struct SortedBoxes {
     grid: Option<Grid>,
@@ -46,6 +48,10 @@ pub struct SortedBoxes {
     /// A repair's new filing, before it becomes `starts` and `boxes`.
     next_starts: Vec<u32>,
     next: Vec<CellBox>,
+    /// A repair's copy of the boxes, in input order, and in parallel each
+    /// thread's own copy of that.
+    copied: Vec<Aabb>,
+    thread_copies: ThreadCopies<Aabb>,
     /// A repair's stayers per cell, and the indices of the boxes that left.
     stays: Vec<u32>,
     left: Vec<u32>,
@@ -141,15 +147,43 @@ pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, s
 }
 
 /// Last sort's filing repaired for `boxes` on its grid (`repair.rs`): the
-/// boxes that stay in their cell kept in place and put in order by
-/// insertion (chunks of cells), those that left or are new filed afresh
-/// (whole), both merged cell by cell into the new filing (chunks of
-/// cells).
+/// boxes copied in input order (chunks of boxes), then those that stay in
+/// their cell kept in place and put in order by insertion (chunks of
+/// cells), those that left or are new filed afresh (whole), both merged
+/// cell by cell into the new filing (chunks of cells).
+///
+/// The repair reads each box by its index, in cell order, from the copy:
+/// one compact slice, where each read from the bodies' columns found the
+/// body's table and two columns. Split, each thread reads from a copy of
+/// the copy of its own, made in order (`ThreadCopies`): half of the shared
+/// copy lies in the other core's caches, and its reads at random each
+/// fetched a line from there. The shared copy is made by the threads that
+/// just moved its bodies: reading the columns at random, or each thread
+/// all of them, drew the lines a core had just written away from it for
+/// its next update (docs/benchmarks.md, "A coherent sort").
 fn repair_filing<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
+    let mut copied = std::mem::take(&mut sorted.copied);
+    copied.resize(boxes.len(), Aabb::default());
+    stage.for_chunks((0..boxes.len(), copied.as_mut_slice()), |(range, out)| {
+        boxes.copy_into(range, out);
+    });
+    repair_from_copy(&copied, stage, sorted);
+    sorted.copied = copied;
+}
+
+/// [`repair_filing`]'s work after the copy, on the copied boxes.
+fn repair_from_copy(boxes: &[Aabb], stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
     let grid = sorted.grid.expect("a repair follows a sort");
     let bounds = &sorted.bounds;
+    sorted.thread_copies.renew(stage.threads());
+    let copies = &sorted.thread_copies;
+    let split = stage.splits();
     let found = stage.map_chunks(CellRuns::new(&sorted.starts, &mut sorted.boxes), |runs| {
-        keep_stayers(boxes, bounds, runs)
+        if split {
+            copies.read(boxes, |mine| keep_stayers(mine, bounds, runs))
+        } else {
+            keep_stayers(boxes, bounds, runs)
+        }
     });
     let (stays, left) = (&mut sorted.stays, &mut sorted.left);
     stays.clear();
@@ -232,8 +266,10 @@ fn sort_afresh<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, sort
     sorted.bounds = grid.bounds();
     sorted.len = boxes.len();
     if boxes.len() > REPAIR_UP_TO {
-        // No repair at this size: its second filing goes back.
+        // No repair at this size: its second filing and copy go back.
         sorted.next = Vec::new();
+        sorted.copied = Vec::new();
+        sorted.thread_copies.free();
     }
 }
 
@@ -305,6 +341,8 @@ mod tests {
             }
             assert_eq!(sorted.repaired, repaired, "{count} boxes");
             assert_eq!(sorted.next.capacity() > 0, repaired, "{count} boxes");
+            assert_eq!(sorted.copied.capacity() > 0, repaired, "{count} boxes");
+            assert_eq!(sorted.thread_copies.capacity_bytes(), 0, "{count} boxes, sequential");
         }
     }
 
