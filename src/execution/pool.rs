@@ -322,9 +322,9 @@ impl StageExecution<'_> {
         self.execution.worker_pool
     }
 
-    /// Threads of the pool the split steps run on.
-    pub fn threads(&self) -> usize {
-        self.execution.threads()
+    /// Threads a split step runs on ([`Execution::step_threads`]).
+    pub fn runners(&self) -> usize {
+        self.execution.step_threads()
     }
 
     /// Runs `kernel` over `data`: whole, on this thread, unless the stage

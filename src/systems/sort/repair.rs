@@ -18,6 +18,7 @@ use super::BoxSource;
 use super::filing::CellBox;
 use super::grid::{CellBounds, Grid};
 use super::ordering::{CellRuns, order_cells, sweep_key};
+use crate::physics::Aabb;
 
 /// What [`keep_stayers`] found in one run of cells.
 #[derive(Default)]
@@ -25,16 +26,16 @@ pub struct Stayers {
     /// How many boxes stay, per cell of the run: now at the front of the
     /// cell's old place, in sweep order.
     pub per_cell: Vec<u32>,
-    /// The input indices of the boxes that left a cell of the run (a box
-    /// that covered several cells: once for each).
-    pub left: Vec<u32>,
+    /// The boxes that left a cell of the run, by input index, with their
+    /// fresh corners (a box that covered several cells: once for each).
+    pub left: Vec<CellBox>,
 }
 
 /// Kernel: the boxes of the old filing's cells in `runs` read again from
 /// `boxes`. A box that covered only its cell and still does stays, with
 /// its fresh corners, moved to the front of the cell's place in sweep
-/// order; every other box leaves (one whose index is past the input's end
-/// is gone).
+/// order; every other box leaves, with its fresh corners (one whose index
+/// is past the input's end is gone).
 pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, bounds: &CellBounds, runs: CellRuns<'_>) -> Stayers {
     let len = boxes.len();
     let mut found = Stayers::default();
@@ -49,12 +50,12 @@ pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, bounds: &CellBounds, runs:
             }
             // A box filed under several cells is filed afresh in all.
             if !within.holds(&old.aabb) {
-                found.left.push(old.index);
+                leaves(&mut found.left, old.index, boxes.get(index));
                 continue;
             }
             let aabb = boxes.get(index);
             if !within.holds(&aabb) {
-                found.left.push(old.index);
+                leaves(&mut found.left, old.index, aabb);
                 continue;
             }
             let staying = CellBox { index: old.index, aabb };
@@ -79,50 +80,77 @@ pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, bounds: &CellBounds, runs:
     found
 }
 
-/// The boxes to file afresh, filed as a fresh sort files them: every
-/// index in `left` (sorted and made unique here) and every index from
-/// `old_len` to the input's end (new bodies), each under every cell it
-/// covers. Noted in index order into `noted`, counted into `starts` (cell
-/// `c`'s arrivals are `filed[starts[c]..starts[c + 1]]`), placed by cell
-/// into `filed` (in index order within a cell) and each cell put in sweep
-/// order, as the fresh sort does.
-pub fn file_afresh<B: BoxSource + ?Sized>(
-    boxes: &B,
-    grid: &Grid,
-    left: &mut Vec<u32>,
-    old_len: usize,
-    noted: &mut Vec<(u32, CellBox)>,
-    starts: &mut Vec<u32>,
-    filed: &mut Vec<CellBox>,
-) {
-    left.sort_unstable();
-    left.dedup();
-    noted.clear();
-    let mut file = |index: u32, aabb| grid.for_each_cell(&aabb, |cell| noted.push((cell, CellBox { index, aabb })));
-    for &index in left.iter() {
-        file(index, boxes.get(index as usize));
+/// Notes a box that leaves its cell: out of the loop over the stayers,
+/// which it kept from the registers it needs (the sort took 10 % longer).
+#[cold]
+#[inline(never)]
+fn leaves(left: &mut Vec<CellBox>, index: u32, aabb: Aabb) {
+    left.push(CellBox { index, aabb });
+}
+
+/// The boxes a repair files afresh, filed by cell in sweep order as a
+/// fresh sort files them, and the buffers that file them (kept between
+/// repairs).
+#[derive(Default)]
+pub struct Arrivals {
+    /// Each box with a cell it covers, in index order.
+    noted: Vec<(u32, CellBox)>,
+    /// Cell `c`'s arrivals are `filed[starts[c]..starts[c + 1]]`.
+    starts: Vec<u32>,
+    /// The next free slot of each cell, while filing.
+    cursors: Vec<u32>,
+    filed: Vec<CellBox>,
+}
+
+impl Arrivals {
+    /// Files every box in `left` (sorted by index and made unique here)
+    /// and every box from `old_len` to the input's end (new bodies), each
+    /// under every cell of `grid` it covers: noted in index order, counted,
+    /// placed by cell (in index order within a cell) and each cell put in
+    /// sweep order, as the fresh sort does.
+    pub fn file<B: BoxSource + ?Sized>(&mut self, boxes: &B, grid: &Grid, left: &mut Vec<CellBox>, old_len: usize) {
+        left.sort_unstable_by_key(|b| b.index);
+        left.dedup_by_key(|b| b.index);
+        let noted = &mut self.noted;
+        noted.clear();
+        let mut file = |index: u32, aabb| grid.for_each_cell(&aabb, |cell| noted.push((cell, CellBox { index, aabb })));
+        for b in left.iter() {
+            file(b.index, b.aabb);
+        }
+        // New bodies come after every old index.
+        boxes.for_each_in(old_len.min(boxes.len())..boxes.len(), |index, aabb| {
+            file(index as u32, aabb)
+        });
+        let (starts, cells) = (&mut self.starts, grid.cell_count());
+        starts.clear();
+        starts.resize(cells + 1, 0);
+        for &(cell, _) in noted.iter() {
+            starts[cell as usize + 1] += 1;
+        }
+        for cell in 0..cells {
+            starts[cell + 1] += starts[cell];
+        }
+        self.filed.clear();
+        self.filed.resize(noted.len(), CellBox::default());
+        self.cursors.clear();
+        self.cursors.extend_from_slice(&starts[..cells]);
+        for &(cell, b) in noted.iter() {
+            let slot = &mut self.cursors[cell as usize];
+            self.filed[*slot as usize] = b;
+            *slot += 1;
+        }
+        order_cells(CellRuns::new(starts, &mut self.filed));
     }
-    // New bodies come after every old index.
-    boxes.for_each_in(old_len.min(boxes.len())..boxes.len(), |index, aabb| {
-        file(index as u32, aabb)
-    });
-    starts.clear();
-    starts.resize(grid.cell_count() + 1, 0);
-    for &(cell, _) in noted.iter() {
-        starts[cell as usize + 1] += 1;
+
+    /// The boxes filed under `cell`, in sweep order.
+    pub fn in_cell(&self, cell: usize) -> &[CellBox] {
+        &self.filed[self.starts[cell] as usize..self.starts[cell + 1] as usize]
     }
-    for cell in 0..grid.cell_count() {
-        starts[cell + 1] += starts[cell];
+
+    /// How many boxes were filed, counting each once per cell it covers.
+    pub fn len(&self) -> usize {
+        self.filed.len()
     }
-    filed.clear();
-    filed.resize(noted.len(), CellBox::default());
-    let mut next: Vec<u32> = starts[..grid.cell_count()].to_vec();
-    for &(cell, b) in noted.iter() {
-        let slot = &mut next[cell as usize];
-        filed[*slot as usize] = b;
-        *slot += 1;
-    }
-    order_cells(CellRuns::new(starts, filed));
 }
 
 /// Kernel: each cell of `runs` (the new filing) filled by merging its

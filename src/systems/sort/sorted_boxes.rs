@@ -14,7 +14,7 @@ use super::filing::{
 };
 use super::grid::{CellBounds, GRID_SAMPLES, Grid, SampledBox};
 use super::ordering::{CellRuns, order_cells};
-use super::repair::{file_afresh, keep_stayers, merge_cells};
+use super::repair::{Arrivals, keep_stayers, merge_cells};
 use crate::execution::{StageExecution, ThreadCopies};
 use crate::physics::Aabb;
 
@@ -54,12 +54,9 @@ pub struct SortedBoxes {
     thread_copies: ThreadCopies<Aabb>,
     /// A repair's stayers per cell, and the indices of the boxes that left.
     stays: Vec<u32>,
-    left: Vec<u32>,
-    /// A repair's boxes filed afresh: noted with their cells, then filed
-    /// by cell in sweep order, and where each cell's start.
-    noted: Vec<(u32, CellBox)>,
-    arrivals: Vec<CellBox>,
-    arrival_starts: Vec<u32>,
+    left: Vec<CellBox>,
+    /// A repair's boxes filed afresh.
+    arrivals: Arrivals,
     len: usize,
 }
 
@@ -121,6 +118,14 @@ pub const REPAIR_UP_TO: usize = 25_000;
 /// boxes, 20 000 bodies) 20 %, and it took 1.3.
 const ARRIVALS_TO_PAY: usize = 16;
 
+/// Most threads of a split repair that each read the boxes from a copy
+/// of their own: each copies all the boxes and reads its share, so the
+/// copy pays where that share is large (half the boxes on two threads,
+/// half of them in the other core's caches) and not where it is small
+/// (a sixteenth on sixteen threads); there the threads read the shared
+/// copy and the work does not grow with the threads.
+const OWN_COPIES_UP_TO: usize = 2;
+
 /// Sorts `boxes` into `sorted`, reusing its buffers, whole or in chunks as
 /// `stage` says. Every [`REFIT_EVERY`] updates (and when the boxes grew or
 /// shrank by an eighth) a fresh sort fits the grid again; between, the
@@ -175,11 +180,13 @@ fn repair_filing<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, so
 fn repair_from_copy(boxes: &[Aabb], stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
     let grid = sorted.grid.expect("a repair follows a sort");
     let bounds = &sorted.bounds;
-    sorted.thread_copies.renew(stage.threads());
+    let own_copies = stage.splits() && stage.runners() <= OWN_COPIES_UP_TO;
+    if own_copies {
+        sorted.thread_copies.renew(stage.runners());
+    }
     let copies = &sorted.thread_copies;
-    let split = stage.splits();
     let found = stage.map_chunks(CellRuns::new(&sorted.starts, &mut sorted.boxes), |runs| {
-        if split {
+        if own_copies {
             copies.read(boxes, |mine| keep_stayers(mine, bounds, runs))
         } else {
             keep_stayers(boxes, bounds, runs)
@@ -192,22 +199,14 @@ fn repair_from_copy(boxes: &[Aabb], stage: StageExecution<'_>, sorted: &mut Sort
         stays.extend(chunk.per_cell);
         left.extend(chunk.left);
     }
-    file_afresh(
-        boxes,
-        &grid,
-        left,
-        sorted.len,
-        &mut sorted.noted,
-        &mut sorted.arrival_starts,
-        &mut sorted.arrivals,
-    );
-    let (arrivals, arrival_starts) = (&sorted.arrivals, &sorted.arrival_starts);
+    sorted.arrivals.file(boxes, &grid, left, sorted.len);
+    let arrivals = &sorted.arrivals;
     let next_starts = &mut sorted.next_starts;
     next_starts.clear();
     next_starts.push(0);
     let mut filed = 0;
     for (cell, &stay) in stays.iter().enumerate() {
-        filed += stay + arrival_starts[cell + 1] - arrival_starts[cell];
+        filed += stay + arrivals.in_cell(cell).len() as u32;
         next_starts.push(filed);
     }
     sorted.next.resize(filed as usize, CellBox::default());
@@ -219,7 +218,7 @@ fn repair_from_copy(boxes: &[Aabb], stage: StageExecution<'_>, sorted: &mut Sort
                 let start = old_starts[cell] as usize;
                 &old[start..start + stays[cell] as usize]
             },
-            |cell| &arrivals[arrival_starts[cell] as usize..arrival_starts[cell + 1] as usize],
+            |cell| arrivals.in_cell(cell),
         );
     });
     std::mem::swap(&mut sorted.boxes, &mut sorted.next);
@@ -369,15 +368,20 @@ mod tests {
     /// Boxes drifting a little each update, a few jumping far, a few
     /// growing over several cells, bodies leaving and arriving: every
     /// repaired filing is the fresh filing on its grid, sequential and
-    /// split alike, and most updates are repairs.
+    /// split alike (on 2 threads each reading its own copy of the boxes,
+    /// on 3 the shared copy), and most updates are repairs.
     #[test]
     fn a_repaired_filing_is_the_fresh_filing_on_its_grid() {
-        for execution in [
-            Execution::new(ExecutionMode::Sequential, 1).unwrap(),
-            Execution::new(ExecutionMode::Parallel, 3)
+        let split_on = |threads| {
+            Execution::new(ExecutionMode::Parallel, threads)
                 .unwrap()
                 .with_split(SplitPolicy::Always)
-                .as_if_hardware_threads(3),
+                .as_if_hardware_threads(threads)
+        };
+        for execution in [
+            Execution::new(ExecutionMode::Sequential, 1).unwrap(),
+            split_on(OWN_COPIES_UP_TO),
+            split_on(OWN_COPIES_UP_TO + 1),
         ] {
             let mut next = stream(7);
             let mut centers: Vec<Vec3> = (0..4000).map(|_| Vec3::new(next(), next(), next()) * 1000.0).collect();
@@ -413,6 +417,9 @@ mod tests {
                 assert_eq!(sorted.len(), boxes.len());
             }
             assert!(repairs > 60, "{repairs} repairs in 80 updates");
+            let own_copies =
+                execution.mode() == ExecutionMode::Parallel && execution.step_threads() <= OWN_COPIES_UP_TO;
+            assert_eq!(sorted.thread_copies.capacity_bytes() > 0, own_copies, "{execution:?}");
         }
     }
 }
