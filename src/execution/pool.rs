@@ -279,7 +279,6 @@ impl Execution {
         if len < 2 {
             return vec![kernel(data)];
         }
-        self.split_recently.store(true, Ordering::Relaxed);
         let runners = runners(self.threads(), self.hardware_threads);
         // Fine grained: one-item chunks even where a step asks for more
         // (the filing's), so every boundary is put to the test.
@@ -288,6 +287,11 @@ impl Execution {
         } else {
             len.div_ceil(runners * chunks_per_thread).max(least)
         };
+        if chunk >= len {
+            // One chunk: nothing to hand to another thread.
+            return vec![kernel(data)];
+        }
+        self.split_recently.store(true, Ordering::Relaxed);
         if self.worker_pool == WorkerPool::Bevy {
             // Bevy's pool is made with the threads asked for (if the app
             // did not make it); the chunks are cut for the runners alike.

@@ -67,6 +67,13 @@ pub struct Absorbed {
     pub momentum: DVec3,
 }
 
+/// Fewest matched pairs a chunk of the outcomes' parallel step holds: an
+/// outcome is a fraction of a microsecond's work and a parallel step costs
+/// about one (docs/benchmarks.md, "The bare cost of one parallel step"),
+/// so the thesis scene's few pairs an update at 10 000 bodies stay on one
+/// thread, where cut in two they had made the stage take twice as long.
+const PAIRS_PER_CHUNK: usize = 32;
+
 /// Responds to [`OverlappingPairs`] in [`SimulationSystems::Response`].
 pub struct ResponsePlugin;
 
@@ -146,7 +153,7 @@ fn respond_to_pairs(
     };
     let mut outcomes: Vec<Outcome> = clock
         .execution(body_count)
-        .map_chunks(0..matched.len(), |range| {
+        .map_chunks_of_at_least(0..matched.len(), PAIRS_PER_CHUNK, |range| {
             range.map(|index| outcome(index, threshold)).collect::<Vec<_>>()
         })
         .concat();

@@ -18,6 +18,7 @@ use super::BoxSource;
 use super::filing::CellBox;
 use super::grid::{CellBounds, Grid};
 use super::ordering::{CellRuns, order_cells, sweep_key};
+use crate::execution::Split;
 use crate::physics::Aabb;
 
 /// What [`keep_stayers`] found in one run of cells.
@@ -38,7 +39,13 @@ pub struct Stayers {
 /// is past the input's end is gone).
 pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, bounds: &CellBounds, runs: CellRuns<'_>) -> Stayers {
     let len = boxes.len();
-    let mut found = Stayers::default();
+    // Sized once (a few boxes a cell leave in an update; in the thesis
+    // scene fewer than two): grown as they came, the workers took the
+    // allocator's one lock (`memory/heap.rs`) by turns.
+    let mut found = Stayers {
+        per_cell: Vec::with_capacity(runs.len()),
+        left: Vec::with_capacity(runs.len() * 4),
+    };
     for (cell, filed) in runs.cells() {
         let within = bounds.cell(cell as u32);
         let (mut kept, mut last_key) = (0, 0);
