@@ -29,7 +29,8 @@
 //!    cut. Exact reductions (min, max, counts, concatenation) are fine.
 //! 3. **No shared mutable state.** Chunks write only what they were handed
 //!    (`&mut` slices cut by [`Split`]); no atomics on floats, no locks
-//!    around results.
+//!    around results. (A thread's own copy of shared input,
+//!    [`ThreadCopies`], is the same items whichever thread made it.)
 //! 4. **Structural changes stay serial.** Spawning, despawning and handing
 //!    out ids happen on one thread in a fixed order (e.g. pair order).
 //! 5. **Any policy, any chunk size.** Results must not depend on where

@@ -2,10 +2,10 @@
 //! grid instead of made anew. A body moves a small part of a cell in an
 //! update, so almost every box stays in its cell and nearly in its place
 //! there: each cell's boxes are read again where they lie (fresh corners,
-//! by index), those that still cover only that cell stay and are put back
-//! in sweep order by insertion (a few moves an update in all), and those
-//! that left, or cover several cells, or are new, are filed afresh and
-//! merged in.
+//! by index, from a copy of the boxes: `sorted_boxes.rs`), those that
+//! still cover only that cell stay and are put back in sweep order by
+//! insertion (a few moves an update in all), and those that left, or
+//! cover several cells, or are new, are filed afresh and merged in.
 //!
 //! The result is the filing a fresh sort makes on that grid, bit for bit:
 //! each cell holds every box covering it, in sweep order (lower x bound,

@@ -24,7 +24,7 @@ use crate::physics::Aabb;
 /// every update: about 32 bytes per box (a box is filed once per cell it
 /// covers, mostly one), run whole or split; up to [`REPAIR_UP_TO`] boxes,
 /// as much again for the repair's second filing and 24 bytes a box for its
-/// copy of the boxes.
+/// copy of the boxes (split on two threads, twice more: each thread's).
 #[derive(Resource, Default)]
 pub struct SortedBoxes {
     grid: Option<Grid>,
@@ -52,7 +52,7 @@ pub struct SortedBoxes {
     /// thread's own copy of that.
     copied: Vec<Aabb>,
     thread_copies: ThreadCopies<Aabb>,
-    /// A repair's stayers per cell, and the indices of the boxes that left.
+    /// A repair's stayers per cell, and the boxes that left.
     stays: Vec<u32>,
     left: Vec<CellBox>,
     /// A repair's boxes filed afresh.
@@ -165,7 +165,7 @@ pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, s
 /// fetched a line from there. The shared copy is made by the threads that
 /// just moved its bodies: reading the columns at random, or each thread
 /// all of them, drew the lines a core had just written away from it for
-/// its next update (docs/benchmarks.md, "A coherent sort").
+/// its next update (docs/benchmarks.md, "Copies to read from").
 fn repair_filing<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
     let mut copied = std::mem::take(&mut sorted.copied);
     copied.resize(boxes.len(), Aabb::default());
