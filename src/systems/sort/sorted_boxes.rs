@@ -180,7 +180,8 @@ fn repair_filing<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, so
 fn repair_from_copy(boxes: &[Aabb], stage: StageExecution<'_>, sorted: &mut SortedBoxes) {
     let grid = sorted.grid.expect("a repair follows a sort");
     let bounds = &sorted.bounds;
-    let own_copies = stage.splits() && stage.runners() <= OWN_COPIES_UP_TO;
+    // One thread has all the shared copy in its own caches.
+    let own_copies = stage.splits() && (2..=OWN_COPIES_UP_TO).contains(&stage.runners());
     if own_copies {
         sorted.thread_copies.renew(stage.runners());
     }
@@ -369,7 +370,7 @@ mod tests {
     /// growing over several cells, bodies leaving and arriving: every
     /// repaired filing is the fresh filing on its grid, sequential and
     /// split alike (on 2 threads each reading its own copy of the boxes,
-    /// on 3 the shared copy), and most updates are repairs.
+    /// on 1 and 3 the shared copy), and most updates are repairs.
     #[test]
     fn a_repaired_filing_is_the_fresh_filing_on_its_grid() {
         let split_on = |threads| {
@@ -380,6 +381,7 @@ mod tests {
         };
         for execution in [
             Execution::new(ExecutionMode::Sequential, 1).unwrap(),
+            split_on(1),
             split_on(OWN_COPIES_UP_TO),
             split_on(OWN_COPIES_UP_TO + 1),
         ] {
@@ -417,8 +419,8 @@ mod tests {
                 assert_eq!(sorted.len(), boxes.len());
             }
             assert!(repairs > 60, "{repairs} repairs in 80 updates");
-            let own_copies =
-                execution.mode() == ExecutionMode::Parallel && execution.step_threads() <= OWN_COPIES_UP_TO;
+            let own_copies = execution.mode() == ExecutionMode::Parallel
+                && (2..=OWN_COPIES_UP_TO).contains(&execution.step_threads());
             assert_eq!(sorted.thread_copies.capacity_bytes() > 0, own_copies, "{execution:?}");
         }
     }
