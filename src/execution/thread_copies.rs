@@ -10,7 +10,7 @@
 //! caches. Every copy is the same items, so which thread reads which copy
 //! never changes a result.
 
-use std::sync::{Mutex, PoisonError};
+use std::sync::Mutex;
 
 /// One copy: the generation it was made for and its items.
 struct Made<T> {
@@ -76,11 +76,18 @@ impl<T: Clone + Send> ThreadCopies<T> {
         self.copies = Vec::new();
     }
 
-    /// Bytes the copies hold.
-    pub fn capacity_bytes(&self) -> usize {
+    /// Bytes the copies hold (for tests).
+    #[cfg(test)]
+    pub(crate) fn capacity_bytes(&self) -> usize {
         self.copies
             .iter()
-            .map(|m| m.lock().unwrap_or_else(PoisonError::into_inner).items.capacity() * size_of::<T>())
+            .map(|m| {
+                m.lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+                    .items
+                    .capacity()
+                    * size_of::<T>()
+            })
             .sum()
     }
 }

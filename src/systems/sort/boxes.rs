@@ -163,29 +163,6 @@ impl<const SWEPT: bool> BoxSource for BodyColumns<'_, SWEPT> {
         }
     }
 
-    /// Table by table, each a loop over its columns alone.
-    fn copy_into(&self, range: Range<usize>, out: &mut [Aabb]) {
-        for (&start, &(_, _, positions, previous, halves)) in self.starts.iter().zip(&self.tables) {
-            let end = start + positions.len();
-            let (from, to) = (range.start.max(start), range.end.min(end));
-            if from >= to {
-                continue;
-            }
-            let (rows, out) = (from - start..to - start, &mut out[from - range.start..to - range.start]);
-            let (positions, halves) = (&positions[rows.clone()], &halves[rows.clone()]);
-            if SWEPT {
-                let bodies = positions.iter().zip(&previous[rows]).zip(halves);
-                for (slot, ((p, q), h)) in out.iter_mut().zip(bodies) {
-                    *slot = swept_box(q.0, p.0, h.0);
-                }
-            } else {
-                for (slot, (p, h)) in out.iter_mut().zip(positions.iter().zip(halves)) {
-                    *slot = Aabb::new(p.0, h.0);
-                }
-            }
-        }
-    }
-
     #[inline]
     fn get(&self, index: usize) -> Aabb {
         let (table, row) = self.locate(index);

@@ -22,7 +22,6 @@ use crate::execution::Split;
 use crate::physics::Aabb;
 
 /// What [`keep_stayers`] found in one run of cells.
-#[derive(Default)]
 pub struct Stayers {
     /// How many boxes stay, per cell of the run: now at the front of the
     /// cell's old place, in sweep order.
