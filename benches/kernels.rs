@@ -320,6 +320,31 @@ fn sort_against_memory(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("copy_filing", count), &count, |b, _| {
             b.iter(|| copy.copy_from_slice(&filing))
         });
+        // The same boxes stored in the order the filing reads them back
+        // (by cell, then lower x bound), as they are and after each moved
+        // up to 5 units on each axis (one update at the thesis scene's
+        // top speed): what the sort would gain from bodies stored near
+        // their cell (docs/benchmarks.md, "What storage order would give").
+        let mut by_cell = boxes.clone();
+        by_cell.sort_by_key(|b| {
+            (((axis(b.min.y) * side + axis(b.min.z)) as u64) << 32) | u64::from(maths::order_key(b.min.x))
+        });
+        let mut rng = Rng::new(2);
+        let mut moved = by_cell.clone();
+        for b in &mut moved {
+            let step = Vec3::new(
+                rng.range(-5.0, 5.0) as f32,
+                rng.range(-5.0, 5.0) as f32,
+                rng.range(-5.0, 5.0) as f32,
+            );
+            *b = Aabb::new((b.min + b.max) * 0.5 + step, Vec3::ONE);
+        }
+        for (name, stored) in [("sort_stored_by_cell", &by_cell), ("sort_stored_by_cell_moved", &moved)] {
+            let mut sorted = SortedBoxes::default();
+            group.bench_with_input(BenchmarkId::new(name, count), &count, |b, _| {
+                b.iter(|| sort_boxes(stored.as_slice(), exec.for_stage("sort", count), &mut sorted))
+            });
+        }
     }
     group.finish();
 }

@@ -142,17 +142,22 @@ impl Grid {
         (self.cells_per_axis * self.cells_per_axis) as usize
     }
 
+    /// The cells the box's y–z extent covers: `[y0, y1, z0, z1]`, the
+    /// first and last coordinate on each axis.
+    #[inline]
+    pub fn span(&self, b: &Aabb) -> [u32; 4] {
+        [
+            self.coordinate(b.min.y, self.lo.x, self.scale.x),
+            self.coordinate(b.max.y, self.lo.x, self.scale.x),
+            self.coordinate(b.min.z, self.lo.y, self.scale.y),
+            self.coordinate(b.max.z, self.lo.y, self.scale.y),
+        ]
+    }
+
     /// Calls `f` with every cell the box's y–z extent covers.
     #[inline]
     pub fn for_each_cell(&self, b: &Aabb, mut f: impl FnMut(u32)) {
-        let (y0, y1) = (
-            self.coordinate(b.min.y, self.lo.x, self.scale.x),
-            self.coordinate(b.max.y, self.lo.x, self.scale.x),
-        );
-        let (z0, z1) = (
-            self.coordinate(b.min.z, self.lo.y, self.scale.y),
-            self.coordinate(b.max.z, self.lo.y, self.scale.y),
-        );
+        let [y0, y1, z0, z1] = self.span(b);
         let n = self.cells_per_axis;
         if y0 == y1 && z0 == z1 {
             // Almost every box: one cell.

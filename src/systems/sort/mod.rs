@@ -22,9 +22,9 @@
 //! Up to 25 000 boxes, between two such fresh sorts, last update's filing
 //! is repaired on its grid instead (`repair.rs`): each cell's boxes read
 //! again by index (from a copy of the boxes in input order, on two
-//! threads each thread's own), those still in that cell alone kept in
-//! order, the rest filed afresh and merged in; the same filing on that
-//! grid.
+//! threads each thread's own), those that cover the same cells as before
+//! kept in order, the rest filed afresh and merged in; the same filing on
+//! that grid.
 //!
 //! The boxes come from a [`BoxSource`] (`boxes.rs`): a slice, or the
 //! bodies' table columns in place — each body's box where the update

@@ -3,9 +3,9 @@
 //! update, so almost every box stays in its cell and nearly in its place
 //! there: each cell's boxes are read again where they lie (fresh corners,
 //! by index, from a copy of the boxes: `sorted_boxes.rs`), those that
-//! still cover only that cell stay and are put back in sweep order by
-//! insertion (a few moves an update in all), and those that left, or
-//! cover several cells, or are new, are filed afresh and merged in.
+//! still cover the cells they covered stay and are put back in sweep order
+//! by insertion (a few moves an update in all), and those that left a
+//! cell, or now cover others, or are new, are filed afresh and merged in.
 //!
 //! The result is the filing a fresh sort makes on that grid, bit for bit:
 //! each cell holds every box covering it, in sweep order (lower x bound,
@@ -27,16 +27,20 @@ pub struct Stayers {
     /// cell's old place, in sweep order.
     pub per_cell: Vec<u32>,
     /// The boxes that left a cell of the run, by input index, with their
-    /// fresh corners (a box that covered several cells: once for each).
+    /// fresh corners (a box that covered several cells: once for each of
+    /// them in the run).
     pub left: Vec<CellBox>,
 }
 
 /// Kernel: the boxes of the old filing's cells in `runs` read again from
-/// `boxes`. A box that covered only its cell and still does stays, with
-/// its fresh corners, moved to the front of the cell's place in sweep
+/// `boxes`. A box that covers the same cells as where it was filed stays,
+/// with its fresh corners, moved to the front of the cell's place in sweep
 /// order; every other box leaves, with its fresh corners (one whose index
-/// is past the input's end is gone).
-pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, bounds: &CellBounds, runs: CellRuns<'_>) -> Stayers {
+/// is past the input's end is gone). Whether a box covers its one cell
+/// alone is four comparisons against the cell's bounds; a box filed under
+/// several cells compares its cells on `grid` before and now, so each of
+/// them keeps it, or none.
+pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, grid: &Grid, bounds: &CellBounds, runs: CellRuns<'_>) -> Stayers {
     let len = boxes.len();
     // Sized once (a few boxes a cell leave in an update; in the thesis
     // scene fewer than two): grown as they came, the workers took the
@@ -54,13 +58,15 @@ pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, bounds: &CellBounds, runs:
             if index >= len {
                 continue;
             }
-            // A box filed under several cells is filed afresh in all.
-            if !within.holds(&old.aabb) {
-                leaves(&mut found.left, old.index, boxes.get(index));
-                continue;
-            }
             let aabb = boxes.get(index);
-            if !within.holds(&aabb) {
+            let stays = if within.holds(&old.aabb) {
+                within.holds(&aabb)
+            } else {
+                // Filed under several cells: it stays in each while it
+                // covers the same cells (every one of them decides alike).
+                grid.span(&aabb) == grid.span(&old.aabb)
+            };
+            if !stays {
                 leaves(&mut found.left, old.index, aabb);
                 continue;
             }
