@@ -271,8 +271,9 @@ fn dispatch(c: &mut Criterion) {
 /// The sort stage (sequential) beside what this machine's memory allows
 /// for the same boxes: one read of every box in order, the boxes written
 /// to their cells (cells known, 28 bytes a box: the filing's scattered
-/// writes alone), and one copy of the filing. docs/benchmarks.md, "The
-/// update near its limit", compares them.
+/// writes alone), one copy of the filing, and the sort of the same boxes
+/// stored in cell order. docs/benchmarks.md, "The update near its
+/// limit", compares them.
 fn sort_against_memory(c: &mut Criterion) {
     /// A filed box as the sort writes it: index and corners.
     #[derive(Clone, Copy, Default)]
