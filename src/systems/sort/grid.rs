@@ -223,7 +223,8 @@ impl Grid {
 /// values `y[k] <= v < y[k + 1]` on y (its coordinate is `k`), likewise
 /// on z. So whether a box covers one given cell only is four comparisons
 /// instead of four coordinates worked out; a NaN or infinite corner never
-/// passes them, and such a box is filed the long way.
+/// passes them, and such a box is judged by its coordinates
+/// ([`Grid::span`]).
 #[derive(Clone, Debug, Default)]
 pub struct CellBounds {
     y: Vec<f32>,

@@ -38,8 +38,9 @@ pub struct Stayers {
 /// order; every other box leaves, with its fresh corners (one whose index
 /// is past the input's end is gone). Whether a box covers its one cell
 /// alone is four comparisons against the cell's bounds; a box filed under
-/// several cells compares its cells on `grid` before and now, so each of
-/// them keeps it, or none.
+/// several cells (or with a corner that is not finite, which those
+/// comparisons never pass) compares its cells on `grid` before and now,
+/// so each of them keeps it, or none.
 pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, grid: &Grid, bounds: &CellBounds, runs: CellRuns<'_>) -> Stayers {
     let len = boxes.len();
     // Sized once (a few boxes a cell leave in an update; in the thesis
@@ -62,8 +63,9 @@ pub fn keep_stayers<B: BoxSource + ?Sized>(boxes: &B, grid: &Grid, bounds: &Cell
             let stays = if within.holds(&old.aabb) {
                 within.holds(&aabb)
             } else {
-                // Filed under several cells: it stays in each while it
-                // covers the same cells (every one of them decides alike).
+                // Filed under several cells (or a corner not finite): it
+                // stays in each while it covers the same cells (every one
+                // of them decides alike).
                 grid.span(&aabb) == grid.span(&old.aabb)
             };
             if !stays {

@@ -154,9 +154,9 @@ pub fn sort_boxes<B: BoxSource + ?Sized>(boxes: &B, stage: StageExecution<'_>, s
 
 /// Last sort's filing repaired for `boxes` on its grid (`repair.rs`): the
 /// boxes copied in input order (chunks of boxes), then those that stay in
-/// their cell kept in place and put in order by insertion (chunks of
-/// cells), those that left or are new filed afresh (whole), both merged
-/// cell by cell into the new filing (chunks of cells).
+/// their cells kept in place and put in order by insertion (chunks of
+/// cells), those whose cells changed or are new filed afresh (whole), both
+/// merged cell by cell into the new filing (chunks of cells).
 ///
 /// The repair reads each box by its index, in cell order, from the copy:
 /// one compact slice, where each read from the bodies' columns found the
@@ -368,7 +368,8 @@ mod tests {
     }
 
     /// Boxes drifting a little each update, a few jumping far, a few
-    /// growing over several cells, bodies leaving and arriving: every
+    /// growing over several cells (and staying there), bodies leaving and
+    /// arriving, the last box taking a grown box's index: every
     /// repaired filing is the fresh filing on its grid, sequential and
     /// split alike (on 2 threads each reading its own copy of the boxes,
     /// on 1 and 3 the shared copy), and most updates are repairs.
@@ -405,6 +406,11 @@ mod tests {
                     centers.truncate(3700);
                     halves.truncate(3700);
                 }
+                if update == 40 {
+                    // The last box takes a grown box's index.
+                    centers.swap_remove(1001);
+                    halves.swap_remove(1001);
+                }
                 if update == 50 {
                     centers.extend((0..250).map(|_| Vec3::new(next(), next(), next()) * 1000.0));
                     halves.extend((0..250).map(|_| Vec3::ONE));
@@ -416,14 +422,14 @@ mod tests {
                 let repaired: Vec<(u32, Aabb)> =
                     sorted.boxes[..filed.len()].iter().map(|b| (b.index, b.aabb)).collect();
                 if sorted.repaired {
-                    // The entries of boxes filed under several cells (those
-                    // grown at update 20), and how many of them were filed
-                    // afresh: fewer, where such a box stayed in its cells.
+                    // The entries of the boxes grown at update 20 (filed
+                    // under several cells), and how many of them were
+                    // filed afresh: fewer, where such a box stayed.
                     let mut entries = vec![0; boxes.len()];
                     for &(index, _) in &filed {
                         entries[index as usize] += 1;
                     }
-                    let several = |index: u32| entries[index as usize] > 1;
+                    let several = |index: u32| update > 20 && index.is_multiple_of(1001) && entries[index as usize] > 1;
                     let filed_afresh = (0..sorted.grid().unwrap().cell_count())
                         .flat_map(|cell| sorted.arrivals.in_cell(cell))
                         .filter(|b| several(b.index))
