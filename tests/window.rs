@@ -673,7 +673,7 @@ fn a_session_of_tool_actions_replays_headless_to_the_windows_state() {
     let (shot, stdout, _, _) = run_window_frames(
         dir.path(),
         "tools",
-        "(ups: 60)",
+        "(updates_per_second: 60)",
         30,
         &[
             "--actions",

@@ -276,9 +276,6 @@ impl Execution {
         K: Fn(S) -> R + Sync,
     {
         let len = data.len();
-        if len < 2 {
-            return vec![kernel(data)];
-        }
         let runners = runners(self.threads(), self.hardware_threads);
         // Fine grained: one-item chunks even where a step asks for more
         // (the filing's), so every boundary is put to the test.
@@ -288,7 +285,8 @@ impl Execution {
             len.div_ceil(runners * chunks_per_thread).max(least)
         };
         if chunk >= len {
-            // One chunk: nothing to hand to another thread.
+            // One chunk (so also any input of fewer than two items):
+            // nothing to hand to another thread.
             return vec![kernel(data)];
         }
         self.split_recently.store(true, Ordering::Relaxed);

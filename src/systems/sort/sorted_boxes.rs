@@ -182,9 +182,10 @@ fn repair_from_copy(boxes: &[Aabb], stage: StageExecution<'_>, sorted: &mut Sort
     let grid = sorted.grid.expect("a repair follows a sort");
     let bounds = &sorted.bounds;
     // One thread has all the shared copy in its own caches.
-    let own_copies = stage.splits() && (2..=OWN_COPIES_UP_TO).contains(&stage.runners());
+    let runners = stage.runners();
+    let own_copies = stage.splits() && (2..=OWN_COPIES_UP_TO).contains(&runners);
     if own_copies {
-        sorted.thread_copies.renew(stage.runners());
+        sorted.thread_copies.renew(runners);
     }
     let copies = &sorted.thread_copies;
     let found = stage.map_chunks(CellRuns::new(&sorted.starts, &mut sorted.boxes), |runs| {
