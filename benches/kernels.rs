@@ -12,7 +12,7 @@ use kessler::maths::Rng;
 use kessler::physics::{Aabb, fragments};
 use kessler::resources::{GravityMethod, Integrator};
 use kessler::systems::{
-    ContactBody, GravitySource, Octree, Pull, PullScratch, SortedBoxes, gravity_kernel, prepare_pull, respond,
+    ContactBody, GravitySource, Octree, Pull, PullScratch, Roles, SortedBoxes, gravity_kernel, prepare_pull, respond,
     sort_boxes, sweep_and_prune,
 };
 
@@ -59,7 +59,7 @@ fn gravity(c: &mut Criterion) {
                     // The thesis's kick (semi-implicit Euler): positions stay.
                     let columns = (
                         ids.as_slice(),
-                        roles.as_slice(),
+                        Roles::Each(&roles),
                         positions.as_mut_slice(),
                         previous.as_mut_slice(),
                         velocities.as_mut_slice(),

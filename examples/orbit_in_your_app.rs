@@ -61,14 +61,15 @@ pub fn app(execution: Execution) -> App {
 }
 
 /// Spawns the planet and the satellites. Each body is a [`BodyState`]'s
-/// bundle (id, position, velocity, mass, size, gravity role) with a fresh
-/// id from [`NextBodyId`], so that the ids the shatters hand out to
-/// fragments never clash with ours.
+/// bundle (id, position, velocity, mass, size) with a fresh id from
+/// [`NextBodyId`], so that the ids the shatters hand out to fragments never
+/// clash with ours; a body that is no adopter also carries its
+/// [`GravityRole`].
 fn spawn_bodies(mut commands: Commands, mut ids: ResMut<NextBodyId>) {
     // The planet pulls (a gravity source) and is not pulled; it is a ball
     // (`Spherical`) that collisions never move (`Immovable`, which is what
     // `interacts: false` means) and that absorbs whatever falls on it. The
-    // bundle leaves these markers to us.
+    // bundle leaves its role (no adopter) and these markers to us.
     let planet = BodyState::new_box(
         ids.allocate(),
         Vec3::ZERO,
@@ -78,7 +79,7 @@ fn spawn_bodies(mut commands: Commands, mut ids: ResMut<NextBodyId>) {
         GravityRole::Source,
         false,
     );
-    commands.spawn((planet.bundle(), Immovable, Spherical, Absorbs));
+    commands.spawn((planet.bundle(), planet.role, Immovable, Spherical, Absorbs));
 
     // Cubes of edge 2 and mass 1 on a circular orbit: speed sqrt(G M / r).
     let speed = (G * PLANET_MASS / RING_RADIUS).sqrt();

@@ -38,7 +38,7 @@
 //! let (mass, radius) = (4000.0, 400.0);
 //! let speed = (6.674_f32 * mass / radius).sqrt();
 //! let planet = BodyState::new_box(planet, Vec3::ZERO, Vec3::ZERO, mass, Vec3::splat(50.0), GravityRole::Source, false);
-//! world.spawn((planet.bundle(), Immovable));
+//! world.spawn((planet.bundle(), GravityRole::Source, Immovable));
 //! let satellite = BodyState::new_box(
 //!     satellite,
 //!     Vec3::new(radius, 0.0, 0.0),
@@ -72,14 +72,16 @@
 //!
 //! A body is an entity with the components of
 //! [`BodyBundle`](components::BodyBundle) — id, position, previous
-//! position, velocity, mass, half-extents (every body is a box) and
-//! [`GravityRole`](components::GravityRole) — and, on the few that are
-//! one, the markers [`Immovable`](components::Immovable) (collisions never
-//! move it: a planet), [`Spherical`](components::Spherical) (a ball) and
-//! [`Absorbs`](components::Absorbs) (removes what falls on it).
-//! [`BodyState`](components::BodyState) is a body as plain data, and
-//! [`BodyState::bundle`](components::BodyState::bundle) spawns it (the
-//! markers are yours to add). Ids must be unique: take them from
+//! position, velocity, mass, half-extents (every body is a box) — its
+//! [`GravityRole`](components::GravityRole) where it is no adopter (a body
+//! without one is attracted and attracts nothing, as debris is) and, on
+//! the few that are one, the markers [`Immovable`](components::Immovable)
+//! (collisions never move it: a planet), [`Spherical`](components::Spherical)
+//! (a ball) and [`Absorbs`](components::Absorbs) (removes what falls on
+//! it). [`BodyState`](components::BodyState) is a body as plain data, and
+//! [`BodyState::bundle`](components::BodyState::bundle) spawns it (the role
+//! and the markers are yours to add, or
+//! [`spawn_states`](components::spawn_states) adds them). Ids must be unique: take them from
 //! [`NextBodyId`](resources::NextBodyId), from which fragments take theirs
 //! too. Kessler keeps its own [`Position`](components::Position), not a
 //! `Transform`, and never marks the motion components changed (see

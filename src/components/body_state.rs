@@ -16,7 +16,7 @@ pub type BodyStateQuery = (
     &'static Velocity,
     &'static Mass,
     &'static HalfExtents,
-    &'static GravityRole,
+    Option<&'static GravityRole>,
     Has<Immovable>,
     Has<Spherical>,
     Has<Absorbs>,
@@ -25,8 +25,8 @@ pub type BodyStateQuery = (
 /// One body's item of [`BodyStateQuery`].
 pub type BodyComponents<'a> = <BodyStateQuery as QueryData>::Item<'a, 'a>;
 
-/// Everything a body is made of but its markers ([`insert_markers`]), in one
-/// bundle.
+/// Everything a body is made of but its role where it is not an adopter
+/// and its markers ([`insert_markers`] gives it those), in one bundle.
 #[derive(Bundle, Clone, Debug)]
 #[expect(missing_docs, reason = "each field is its component, documented there")]
 pub struct BodyBundle {
@@ -36,7 +36,6 @@ pub struct BodyBundle {
     pub velocity: Velocity,
     pub mass: Mass,
     pub half_extents: HalfExtents,
-    pub role: GravityRole,
 }
 
 /// A body's state as plain data: what scenarios create, fragments are born
@@ -123,7 +122,7 @@ impl BodyState {
             velocity: velocity.0,
             mass: mass.0,
             half_extents: half_extents.0,
-            role: *role,
+            role: GravityRole::of(role),
             interacts: !immovable,
             previous: previous.0,
             spherical,
@@ -131,9 +130,9 @@ impl BodyState {
         }
     }
 
-    /// The bundle that spawns this body (an immovable one also needs
-    /// [`Immovable`], a ball [`Spherical`], an absorber [`Absorbs`]:
-    /// [`spawn_states`] adds them).
+    /// The bundle that spawns this body (a body that is no adopter also
+    /// needs its [`GravityRole`], an immovable one [`Immovable`], a ball
+    /// [`Spherical`], an absorber [`Absorbs`]: [`spawn_states`] adds them).
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {
             id: self.id,
@@ -142,19 +141,19 @@ impl BodyState {
             velocity: Velocity(self.velocity),
             mass: Mass(self.mass),
             half_extents: HalfExtents(self.half_extents),
-            role: self.role,
         }
     }
 
-    /// Whether the body needs a marker besides its [`bundle`](Self::bundle).
+    /// Whether the body needs a component besides its
+    /// [`bundle`](Self::bundle): its role, or a marker.
     pub fn has_markers(&self) -> bool {
-        !self.interacts || self.spherical || self.absorbs
+        self.role.is_stored() || !self.interacts || self.spherical || self.absorbs
     }
 }
 
-/// Spawns `bodies` into `world`, each with its markers (an immovable
-/// collider's [`Immovable`], a ball's [`Spherical`], an absorber's
-/// [`Absorbs`]), in the order given.
+/// Spawns `bodies` into `world`, each with its role where it is no adopter
+/// and its markers (an immovable collider's [`Immovable`], a ball's
+/// [`Spherical`], an absorber's [`Absorbs`]), in the order given.
 pub fn spawn_states(world: &mut World, bodies: &[BodyState]) {
     let entities: Vec<Entity> = world.spawn_batch(bodies.iter().map(BodyState::bundle)).collect();
     for (&entity, body) in entities.iter().zip(bodies) {
@@ -162,15 +161,19 @@ pub fn spawn_states(world: &mut World, bodies: &[BodyState]) {
     }
 }
 
-/// Gives a spawned body its markers: [`Immovable`] where it does not
-/// interact, [`Spherical`] for a ball, [`Absorbs`] for an absorber. Each
-/// moves the body to another table, where it is the last row, so that the
-/// tables' order depends only on the order of the calls.
+/// Gives a spawned body what its bundle leaves out: its [`GravityRole`]
+/// where it is no adopter, [`Immovable`] where it does not interact,
+/// [`Spherical`] for a ball, [`Absorbs`] for an absorber. Each moves the
+/// body to another table, where it is the last row, so that the tables'
+/// order depends only on the order of the calls.
 pub fn insert_markers(world: &mut World, entity: Entity, body: &BodyState) {
     if !body.has_markers() {
         return;
     }
     let mut entity = world.entity_mut(entity);
+    if body.role.is_stored() {
+        entity.insert(body.role);
+    }
     if !body.interacts {
         entity.insert(Immovable);
     }

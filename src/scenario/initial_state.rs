@@ -15,8 +15,8 @@ use crate::execution::{Execution, ExecutionMode};
 use crate::physics::Aabb;
 use crate::resources::SimulationSettings;
 use crate::systems::{
-    Drift, PullScratch, SortedBoxes, collect_sources, first_non_finite, gravity_kernel, integrate_kernel, prepare_pull,
-    sweep_and_prune,
+    Drift, PullScratch, Roles, SortedBoxes, collect_sources, first_non_finite, gravity_kernel, integrate_kernel,
+    prepare_pull, sweep_and_prune,
 };
 
 /// What is wrong with the initial state, in words naming the body by id.
@@ -55,7 +55,7 @@ fn first_update_stays_finite(
         positions.as_slice(),
         velocities.as_slice(),
         masses.as_slice(),
-        roles.as_slice(),
+        Some(roles.as_slice()),
     );
     let (integrator, dt) = (settings.integrator, settings.time_step);
     collect_sources(
@@ -78,7 +78,7 @@ fn first_update_stays_finite(
     );
     let columns = (
         ids.as_slice(),
-        roles.as_slice(),
+        Roles::Each(&roles),
         positions.as_mut_slice(),
         previous.as_mut_slice(),
         velocities.as_mut_slice(),

@@ -41,10 +41,10 @@ const SPAWN_BATCH: usize = 1 << 16;
 /// Spawns `bodies` as [`spawn_bodies`] does, handing their memory back a
 /// batch at a time as they move into the world, so that a million bodies
 /// are never held twice (64 bytes a body). The world comes out the same:
-/// every body spawned in order first, then the markers of immovable
-/// colliders, balls and absorbers inserted in order (each moves its body to
-/// another table, and the last row of the first into its place), as
-/// [`spawn_states`] does in one call.
+/// every body spawned in order first, then the roles of those that are no
+/// adopters and the markers of immovable colliders, balls and absorbers
+/// inserted in order (each moves its body to another table, and the last
+/// row of the first into its place), as [`spawn_states`] does in one call.
 pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 {
     let next = next_fresh_id(&bodies);
     let mut marked = Vec::new();
@@ -346,12 +346,20 @@ mod tests {
     }
 
     /// Bodies moved into the world in batches make the same world as in
-    /// one call, past one batch and with balls, absorbers and immovable
-    /// colliders among them:
+    /// one call, past one batch and with balls, absorbers, immovable
+    /// colliders and every gravity role among them:
     /// the same bodies in the same tables in the same order, so that sums
-    /// in query order (the timeline's totals) keep their bits.
+    /// in query order (the timeline's totals) keep their bits. Only the
+    /// bodies that are no adopters store their role, and every role reads
+    /// back as given.
     #[test]
     fn bodies_spawned_in_batches_make_the_same_world() {
+        let role = |k: u64| match k % 1_000 {
+            1 => GravityRole::Source,
+            2 => GravityRole::SourceAndAdopter,
+            3 => GravityRole::Inert,
+            _ => GravityRole::Adopter,
+        };
         let bodies: Vec<BodyState> = (0..SPAWN_BATCH as u64 + 4_500)
             .map(|k| BodyState {
                 spherical: k % 9_001 == 5,
@@ -363,16 +371,22 @@ mod tests {
                     Vec3::new(1.0 / (k + 1) as f32, 0.25, k as f32 * 1e-3),
                     1.0 + (k % 17) as f32,
                     Vec3::splat(0.5),
-                    GravityRole::Adopter,
+                    role(k),
                     true,
                 )
             })
             .collect();
-        let listed = |world: &mut World| -> Vec<(u64, bool, bool, bool)> {
+        let listed = |world: &mut World| -> Vec<(u64, bool, bool, bool, Option<GravityRole>)> {
             world
-                .query::<(&BodyId, Has<Spherical>, Has<Absorbs>, Has<Immovable>)>()
+                .query::<(
+                    &BodyId,
+                    Has<Spherical>,
+                    Has<Absorbs>,
+                    Has<Immovable>,
+                    Option<&GravityRole>,
+                )>()
                 .iter(world)
-                .map(|(id, ball, absorber, immovable)| (id.0, ball, absorber, immovable))
+                .map(|(id, ball, absorber, immovable, role)| (id.0, ball, absorber, immovable, role.copied()))
                 .collect()
         };
         let (mut whole, mut batched) = (World::new(), World::new());
@@ -381,8 +395,17 @@ mod tests {
             spawn_owned_bodies(&mut batched, bodies.clone())
         );
         let order = listed(&mut whole);
-        assert!(order.iter().any(|&(_, ball, ..)| ball) && order.iter().any(|&(_, _, absorber, _)| absorber));
-        assert!(order.iter().filter(|&&(.., immovable)| immovable).count() > 2);
+        assert!(order.iter().any(|&(_, ball, ..)| ball) && order.iter().any(|&(_, _, absorber, ..)| absorber));
+        assert!(order.iter().filter(|&&(.., immovable, _)| immovable).count() > 2);
+        for &(id, .., stored) in &order {
+            let given = role((id - 1) / 3);
+            assert_eq!(GravityRole::of(stored.as_ref()), given, "body {id}");
+            assert_eq!(stored.is_some(), given != GravityRole::Adopter, "body {id}");
+        }
+        assert_eq!(
+            order.iter().filter(|&&(.., stored)| stored.is_some()).count(),
+            bodies.iter().filter(|b| b.role != GravityRole::Adopter).count()
+        );
         assert!(
             order.windows(2).any(|pair| pair[0].0 > pair[1].0),
             "the markers moved rows out of id order"

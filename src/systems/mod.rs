@@ -21,8 +21,8 @@ use bevy::app::{PluginGroup, PluginGroupBuilder};
 
 pub use gravity::{
     GROUP_SIZE, GravityColumns, GravityInUse, GravityPlugin, GravitySource, Kernel, LEAF_SIZE, Octree, Pull,
-    PullScratch, REGION_SIZE, SourceColumns, acceleration_at, add_pulls, collect_sources, gravity_kernel, half_drift,
-    prepare_pull, pull_factor,
+    PullScratch, REGION_SIZE, Roles, SourceColumns, acceleration_at, add_pulls, collect_sources, gravity_kernel,
+    half_drift, prepare_pull, pull_factor,
 };
 pub use integrate::{Drift, IntegrateColumns, IntegratePlugin, integrate_kernel};
 pub use pipeline::{

@@ -43,7 +43,7 @@ mod walk;
 
 pub use kernel::Kernel;
 pub use kick::{
-    GravityColumns, Pull, PullScratch, SourceColumns, collect_sources, gravity_kernel, half_drift, prepare_pull,
+    GravityColumns, Pull, PullScratch, Roles, SourceColumns, collect_sources, gravity_kernel, half_drift, prepare_pull,
 };
 pub use source::{GravitySource, acceleration_at, add_pulls, pull_factor};
 pub use tree::{GROUP_SIZE, LEAF_SIZE, Octree, REGION_SIZE};
@@ -98,19 +98,27 @@ struct GravityScratch {
     pull: PullScratch,
 }
 
+/// What the gravity stage reads and writes of every body: its role only
+/// where it stores one (an adopter does not).
+type GravityQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        &'static BodyId,
+        Option<&'static GravityRole>,
+        &'static Mass,
+        &'static mut Position,
+        &'static mut PreviousPosition,
+        &'static mut Velocity,
+    ),
+>;
+
 fn apply_gravity(
     settings: Res<SimulationSettings>,
     mut stage: Stage,
     mut in_use: ResMut<GravityInUse>,
     mut scratch: Local<GravityScratch>,
-    mut bodies: Query<(
-        &BodyId,
-        &GravityRole,
-        &Mass,
-        &mut Position,
-        &mut PreviousPosition,
-        &mut Velocity,
-    )>,
+    mut bodies: GravityQuery,
 ) {
     let clock = stage.start(SimulationSystems::Gravity);
     let (integrator, dt) = (settings.integrator, settings.time_step);
@@ -137,7 +145,7 @@ fn apply_gravity(
     for (ids, roles, _, mut positions, mut previous, mut velocities) in tables {
         let columns = (
             ids,
-            roles,
+            Roles::of_table(roles, ids.len()),
             positions.bypass_change_detection(),
             previous.bypass_change_detection(),
             velocities.bypass_change_detection(),

@@ -26,7 +26,7 @@ pub(super) type ContactQuery<'w, 's> = Query<
         &'static mut Velocity,
         &'static Mass,
         &'static HalfExtents,
-        &'static GravityRole,
+        Option<&'static GravityRole>,
         Has<Immovable>,
         Has<Spherical>,
         Has<Absorbs>,

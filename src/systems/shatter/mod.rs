@@ -92,13 +92,20 @@ fn shatter(
             move_on(&mut made, pair.rest);
         }
         next_id.0 += made.len() as u64;
-        commands.spawn_batch(made.into_iter().map(|f| {
-            debug_assert!(
-                !f.has_markers(),
-                "fragments are interacting boxes: no markers to insert"
-            );
-            f.bundle()
-        }));
+        debug_assert!(
+            made.iter().all(|f| f.interacts && !f.spherical && !f.absorbs),
+            "fragments are interacting boxes: no markers to insert"
+        );
+        // Fragments take the role of what they came from: those that are
+        // no adopters carry it (a self-gravitating cluster's), in the
+        // order made, each kind in its own table.
+        if made.iter().any(|f| f.role.is_stored()) {
+            let (roled, adopters): (Vec<_>, Vec<_>) = made.into_iter().partition(|f| f.role.is_stored());
+            commands.spawn_batch(adopters.into_iter().map(|f| f.bundle()));
+            commands.spawn_batch(roled.into_iter().map(|f| (f.bundle(), f.role)));
+        } else {
+            commands.spawn_batch(made.into_iter().map(|f| f.bundle()));
+        }
     }
     clock.finish();
 }

@@ -126,7 +126,7 @@ type CelestialQuery<'w, 's, F> = Query<
         &'static Position,
         &'static HalfExtents,
         &'static Mass,
-        &'static GravityRole,
+        Option<&'static GravityRole>,
         Has<Immovable>,
     ),
     F,
@@ -141,8 +141,8 @@ fn spawn_celestial_visuals(
     added: CelestialQuery<Added<BodyId>>,
     all: CelestialQuery<()>,
 ) {
-    let celestial = |&(.., role, immovable): &(Entity, &Position, &HalfExtents, &Mass, &GravityRole, bool)| {
-        is_celestial(*role, immovable)
+    let celestial = |&(.., role, immovable): &(Entity, &Position, &HalfExtents, &Mass, Option<&GravityRole>, bool)| {
+        is_celestial(GravityRole::of(role), immovable)
     };
     if !added.iter().any(|body| celestial(&body)) {
         return;

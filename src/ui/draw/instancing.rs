@@ -69,7 +69,7 @@ type CubeQuery<'w, 's> = Query<
         &'static Position,
         &'static HalfExtents,
         &'static Velocity,
-        &'static GravityRole,
+        Option<&'static GravityRole>,
         Has<Immovable>,
     ),
 >;
@@ -102,7 +102,7 @@ fn gather_instances(
         looks.start(&pairs);
         let cubes = bodies
             .iter()
-            .filter(|&(.., role, immovable)| !is_celestial(*role, immovable));
+            .filter(|&(.., role, immovable)| !is_celestial(GravityRole::of(role), immovable));
         staging.extend(cubes.map(|(entity, id, position, half, velocity, ..)| {
             let look = looks.look(entity, *id, velocity.0, state.first_fragment_id);
             InstanceData {

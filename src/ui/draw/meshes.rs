@@ -91,7 +91,7 @@ fn sync_body_meshes(
     settings: Res<SandboxSettings>,
     assets: Res<BodyMeshAssets>,
     mut meshes: ResMut<Assets<Mesh>>,
-    bare: Query<(Entity, &GravityRole, Has<Immovable>), (With<BodyId>, Without<MeshedBody>)>,
+    bare: Query<(Entity, Option<&GravityRole>, Has<Immovable>), (With<BodyId>, Without<MeshedBody>)>,
     meshed: Query<(Entity, &MeshedBody)>,
 ) {
     let wanted = wanted_method(&settings);
@@ -104,7 +104,7 @@ fn sync_body_meshes(
     }
     let cubes = bare
         .iter()
-        .filter(|&(_, role, immovable)| !is_celestial(*role, immovable));
+        .filter(|&(_, role, immovable)| !is_celestial(GravityRole::of(role), immovable));
     match wanted {
         Some(DrawMethod::SharedMesh) => {
             let batch: Vec<_> = cubes

@@ -170,7 +170,7 @@ fn bodies_ready(settings: &SandboxSettings, cubes: usize, draws: Option<u64>) ->
 }
 
 /// The cubes of the scene: the bodies the instanced pipeline draws.
-type Cubes<'w, 's> = Query<'w, 's, (&'static GravityRole, Has<Immovable>), With<BodyId>>;
+type Cubes<'w, 's> = Query<'w, 's, (Option<&'static GravityRole>, Has<Immovable>), With<BodyId>>;
 
 /// Counts the frames once the scene is drawn in full, then takes the
 /// screenshot, and ends the app once the pipelines are settled.
@@ -196,7 +196,7 @@ fn scripted_run(
     let drawn = settled && run.first_frame.is_none() && {
         let cubes = cubes
             .iter()
-            .filter(|&(&role, immovable)| !is_celestial(role, immovable))
+            .filter(|&(role, immovable)| !is_celestial(GravityRole::of(role), immovable))
             .count();
         let draws = instanced.iter().map(|InstancedBodies(slot)| slot.draws()).min();
         bodies_ready(&settings, cubes, draws)

@@ -60,7 +60,7 @@ fn panel(
     mut settings: ResMut<SandboxSettings>,
     mut state: ResMut<SandboxState>,
     mut selection: ResMut<Selection>,
-    bodies: Query<(&BodyId, &Mass, &Velocity, &Position, &GravityRole)>,
+    bodies: Query<(&BodyId, &Mass, &Velocity, &Position, Option<&GravityRole>)>,
     keys: Res<ButtonInput<KeyCode>>,
     mut path_field: Local<PathField>,
     mut files: Local<Option<Vec<PathBuf>>>,
@@ -629,7 +629,7 @@ fn camera(
     ui: &mut egui::Ui,
     settings: &mut SandboxSettings,
     selection: &mut Selection,
-    bodies: &Query<(&BodyId, &Mass, &Velocity, &Position, &GravityRole)>,
+    bodies: &Query<(&BodyId, &Mass, &Velocity, &Position, Option<&GravityRole>)>,
 ) {
     ui.label("Camera (C cycles)");
     ui.horizontal(|ui| {

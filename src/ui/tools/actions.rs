@@ -219,10 +219,10 @@ fn camera_side(world: &mut World, target: Vec3) -> Option<[f32; 3]> {
 
 /// The heaviest body that attracts (the planet a launch orbits).
 fn heaviest_source(world: &mut World) -> Option<BodyState> {
-    let mut sources = world.query::<(Entity, &BodyId, &Mass, &GravityRole)>();
+    let mut sources = world.query::<(Entity, &BodyId, &Mass, Option<&GravityRole>)>();
     let (heaviest, ..) = sources
         .iter(world)
-        .filter(|(.., role)| role.is_source())
+        .filter(|(.., role)| GravityRole::of(*role).is_source())
         .max_by(|(_, a_id, a, _), (_, b_id, b, _)| a.0.total_cmp(&b.0).then(b_id.cmp(a_id)))?;
     let mut bodies = world.query::<BodyStateQuery>();
     bodies.get(world, heaviest).ok().map(BodyState::from_components)

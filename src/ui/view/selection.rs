@@ -103,7 +103,7 @@ pub struct SelectedInfo {
 /// no longer exists, e.g. because it shattered.
 pub fn selected_info(
     selection: &mut Selection,
-    bodies: &Query<(&BodyId, &Mass, &Velocity, &Position, &GravityRole)>,
+    bodies: &Query<(&BodyId, &Mass, &Velocity, &Position, Option<&GravityRole>)>,
 ) -> Option<SelectedInfo> {
     let entity = selection.entity?;
     match bodies.get(entity) {
@@ -112,7 +112,7 @@ pub fn selected_info(
             mass: mass.0,
             speed: velocity.0.length(),
             position: position.0,
-            role: *role,
+            role: GravityRole::of(role),
         }),
         Err(_) => {
             selection.entity = None;
