@@ -6,4 +6,6 @@ mod body_state;
 pub use body::{
     Absorbs, BodyId, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition, Spherical, Velocity,
 };
-pub use body_state::{BodyBundle, BodyComponents, BodyState, BodyStateQuery, insert_markers, spawn_states};
+pub use body_state::{
+    BodyBundle, BodyComponents, BodyState, BodyStateQuery, insert_markers, spawn_states, spawn_with_roles,
+};

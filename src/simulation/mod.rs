@@ -8,7 +8,9 @@ use bevy::prelude::*;
 pub use headless_run::{HeadlessError, HeadlessReport, Outputs, run_headless};
 pub use timeline::{Timeline, TimelineRow, row_updates};
 
-use crate::components::{BodyId, BodyState, BodyStateQuery, Mass, Position, Velocity, insert_markers, spawn_states};
+use crate::components::{
+    BodyId, BodyState, BodyStateQuery, Mass, Position, Velocity, insert_markers, spawn_states, spawn_with_roles,
+};
 use crate::execution::Execution;
 use crate::input::InputError;
 use crate::physics::Totals;
@@ -41,10 +43,11 @@ const SPAWN_BATCH: usize = 1 << 16;
 /// Spawns `bodies` as [`spawn_bodies`] does, handing their memory back a
 /// batch at a time as they move into the world, so that a million bodies
 /// are never held twice (64 bytes a body). The world comes out the same:
-/// every body spawned in order first, then the roles of those that are no
-/// adopters and the markers of immovable colliders, balls and absorbers
-/// inserted in order (each moves its body to another table, and the last
-/// row of the first into its place), as [`spawn_states`] does in one call.
+/// every body spawned in order first (with its role where it is no
+/// adopter: [`spawn_with_roles`], a batch at a time), then the markers of
+/// immovable colliders, balls and absorbers inserted in order (each moves
+/// its body to another table, and the last row of the first into its
+/// place), as [`spawn_states`] does in one call.
 pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 {
     let next = next_fresh_id(&bodies);
     let mut marked = Vec::new();
@@ -53,9 +56,10 @@ pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 
     while !bodies.is_empty() {
         let mut batch = bodies.split_off(bodies.len().saturating_sub(SPAWN_BATCH));
         batch.reverse();
-        let entities = world.spawn_batch(batch.iter().map(BodyState::bundle));
+        let entities = spawn_with_roles(world, &batch);
         marked.extend(
             entities
+                .into_iter()
                 .zip(&batch)
                 .filter(|(_, body)| body.has_markers())
                 .map(|(entity, &body)| (entity, body)),

@@ -96,13 +96,11 @@ fn shatter(
             made.iter().all(|f| f.interacts && !f.spherical && !f.absorbs),
             "fragments are interacting boxes: no markers to insert"
         );
-        // Fragments take the role of what they came from: those that are
-        // no adopters carry it (a self-gravitating cluster's), in the
-        // order made, each kind in its own table.
-        if made.iter().any(|f| f.role.is_stored()) {
-            let (roled, adopters): (Vec<_>, Vec<_>) = made.into_iter().partition(|f| f.role.is_stored());
-            commands.spawn_batch(adopters.into_iter().map(|f| f.bundle()));
-            commands.spawn_batch(roled.into_iter().map(|f| (f.bundle(), f.role)));
+        // A pair's fragments share one role (`fragments_for`); where it is
+        // no adopter's (a self-gravitating cluster's), they carry it.
+        debug_assert!(made.windows(2).all(|f| f[0].role == f[1].role));
+        if made.first().is_some_and(|f| f.role.is_stored()) {
+            commands.spawn_batch(made.into_iter().map(|f| (f.bundle(), f.role)));
         } else {
             commands.spawn_batch(made.into_iter().map(|f| f.bundle()));
         }
