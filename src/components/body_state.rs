@@ -26,7 +26,8 @@ pub type BodyStateQuery = (
 pub type BodyComponents<'a> = <BodyStateQuery as QueryData>::Item<'a, 'a>;
 
 /// Everything a body is made of but its role where it is not an adopter
-/// and its markers ([`insert_markers`] gives it those), in one bundle.
+/// ([`spawn_with_roles`] spawns it with the bundle) and its markers
+/// ([`insert_markers`]), in one bundle.
 #[derive(Bundle, Clone, Debug)]
 #[expect(missing_docs, reason = "each field is its component, documented there")]
 pub struct BodyBundle {

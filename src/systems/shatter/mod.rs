@@ -93,7 +93,7 @@ fn shatter(
         }
         next_id.0 += made.len() as u64;
         debug_assert!(
-            made.iter().all(|f| f.interacts && !f.spherical && !f.absorbs),
+            made.iter().all(|f| !f.has_markers()),
             "fragments are interacting boxes: no markers to insert"
         );
         // A pair's fragments share one role (`fragments_for`); where it is
