@@ -40,7 +40,7 @@ fn orbiting(count: u64, mode: ExecutionMode) -> Simulation {
         ),
         mode,
     );
-    sim.settings_mut().collisions = false;
+    sim.settings_mut().stages.collisions = false;
     sim
 }
 

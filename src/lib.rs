@@ -93,13 +93,14 @@
 //! The physics settings are one resource,
 //! [`SimulationSettings`](resources::SimulationSettings) (`G`, time step,
 //! integrator, gravity method, collision detection, shatter threshold,
-//! fragments…), which may change between updates. What an update did is
-//! in resources: [`CollisionStats`](systems::CollisionStats) (pairs,
-//! shatters, re-entries), [`Absorbed`](systems::Absorbed),
+//! fragments…), with the stage switches in its `stages`, and it may change
+//! between updates. What an update did is in resources:
+//! [`UpdateCount`](systems::UpdateCount) (the updates run so far),
+//! [`CollisionStats`](systems::CollisionStats) (pairs, shatters,
+//! re-entries), [`Absorbed`](systems::Absorbed),
 //! [`StageTimings`](systems::StageTimings) and
-//! [`SimulationFault`](systems::SimulationFault) — the update count, and
-//! why a run stopped, if it did (a value overflowed; after a fault no
-//! stage runs). [`Totals`](physics::Totals) sums mass, kinetic energy and
+//! [`SimulationFault`](systems::SimulationFault) (why a run stopped, if it
+//! did: a value overflowed; after a fault no stage runs). [`Totals`](physics::Totals) sums mass, kinetic energy and
 //! momentum over any bodies.
 //!
 //! # One update

@@ -10,6 +10,8 @@ mod common {
 
 use common::binary::kessler;
 use common::errors::{assert_one_clear_line, corpus, expectation};
+use kessler::bench::REFERENCES;
+use kessler::scenario::scenario_text;
 
 #[test]
 fn bad_configs_are_clear_errors_and_write_nothing() {
@@ -103,10 +105,10 @@ fn tiny_config(dir: &Path) -> PathBuf {
         &path,
         format!(
             r#"Bench(scenario: "{scenario}", runs: [
-                Run(bodies: 50, updates: 5, mode: Sequential),
-                Run(bodies: 50, updates: 5, mode: Parallel, threads: 1, split: Always),
-                Run(bodies: 500, updates: 3, mode: Parallel, threads: 2, stages: (collisions: false),
-                    seed: 7, shatter_fragments: 3, shatter_threshold: 2.5),
+                Run(bodies: 50, updates: 5, execution: (mode: Sequential)),
+                Run(bodies: 50, updates: 5, execution: (mode: Parallel, threads: 1, split: Always)),
+                Run(bodies: 500, updates: 3, execution: (mode: Parallel, threads: 2), stages: (collisions: false),
+                    settings: (seed: 7, shatter_fragments: 3, shatter_threshold: 2.5)),
             ])"#
         ),
     )
@@ -254,23 +256,64 @@ fn assert_machine_file(dir: &Path) {
             head.trim()
         );
     }
-    // The reference run's hash is the hash of that run on the command line.
-    let headless = kessler()
-        .args([
-            "headless",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/collapse.ron"),
-        ])
-        .args(["--steps", "50", "--mode", "parallel"])
-        .output()
-        .unwrap();
-    let summary = String::from_utf8(headless.stdout).unwrap();
-    let (_, hash) = summary.trim_end().rsplit_once("state hash ").unwrap();
-    assert!(
-        machine.contains(&format!(
-            "reference state hash: {hash} (scenarios/collapse.ron, 50 updates"
-        )),
-        "{machine}"
-    );
+    // Each reference run's hash is the hash of that run on the command
+    // line, in parallel: its scenario with its settings, written to a file.
+    for reference in &REFERENCES {
+        let scenario = dir.join(format!("{}.ron", reference.key.replace(' ', "-")));
+        std::fs::write(&scenario, scenario_text(&reference.scenario().unwrap()).unwrap()).unwrap();
+        let headless = kessler()
+            .arg("headless")
+            .arg(&scenario)
+            .args(["--steps", &reference.updates.to_string(), "--mode", "parallel"])
+            .output()
+            .unwrap();
+        let summary = String::from_utf8(headless.stdout).unwrap();
+        let (_, hash) = summary.trim_end().rsplit_once("state hash ").unwrap();
+        assert!(
+            machine.contains(&format!(
+                "{}: {hash} ({}, {} updates",
+                reference.key,
+                reference.run(),
+                reference.updates
+            )),
+            "{machine}"
+        );
+    }
+}
+
+/// The results in benches/results were measured on code that behaves as
+/// this code does: every machine file's reference runs hash as they do
+/// here. A change that alters the physics fails this until the results are
+/// measured again (docs/benchmarks.md, "Regenerating the results"); one
+/// that keeps every bit lands without.
+#[test]
+fn the_shipped_results_were_measured_on_code_that_behaves_as_this_code() {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/results");
+    let here: Vec<_> = REFERENCES.iter().map(|r| r.state_hash().unwrap()).collect();
+    let mut files = 0;
+    for entry in std::fs::read_dir(&folder).unwrap() {
+        let path = entry.unwrap().path();
+        if !path.to_string_lossy().ends_with("-machine.txt") {
+            continue;
+        }
+        files += 1;
+        let report = std::fs::read_to_string(&path).unwrap();
+        for (reference, here) in REFERENCES.iter().zip(&here) {
+            let recorded = reference.recorded_in(&report);
+            assert_eq!(
+                recorded,
+                Some(*here),
+                "{}: its `{}` ({}, {} updates) is not this code's {here}: the physics changed since these \
+                 results were measured; measure benches/results again (docs/benchmarks.md, \
+                 \"Regenerating the results\")",
+                path.display(),
+                reference.key,
+                reference.run(),
+                reference.updates,
+            );
+        }
+    }
+    assert!(files > 0, "{} holds no machine file", folder.display());
 }
 
 #[test]
@@ -297,8 +340,8 @@ fn repeated_passes_measure_every_run_each_time_and_write_one_row_per_run() {
         &config,
         format!(
             r#"Bench(scenario: "{scenario}", repeat: 3, runs: [
-                Run(bodies: 40, updates: 4, mode: Sequential),
-                Run(bodies: 40, updates: 4, mode: Parallel, threads: 2),
+                Run(bodies: 40, updates: 4, execution: (mode: Sequential)),
+                Run(bodies: 40, updates: 4, execution: (mode: Parallel, threads: 2)),
             ])"#
         ),
     )
@@ -362,7 +405,7 @@ fn the_crossover_names_where_always_beats_sequential_and_marks_the_plot() {
             "mode: Parallel, threads: 2, split: Always",
             "mode: Parallel, threads: 2",
         ] {
-            runs.push_str(&format!("Run(bodies: {bodies}, updates: 3, {run}),\n"));
+            runs.push_str(&format!("Run(bodies: {bodies}, updates: 3, execution: ({run})),\n"));
         }
     }
     std::fs::write(

@@ -19,7 +19,7 @@ fn run(text: &str, mode: ExecutionMode, threads: usize, updates: u64) -> Vec<Bod
     let mut sim = Simulation::from_scenario(&scenario, execution).unwrap();
     // Gravity and integration only: self-gravitating debris that shatters
     // re-collapses and shatters again, which is a different test.
-    sim.settings_mut().collisions = false;
+    sim.settings_mut().stages.collisions = false;
     sim.step(updates);
     sim.snapshot()
 }

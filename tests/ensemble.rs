@@ -39,7 +39,8 @@ fn config(dir: &Path, name: &str, fields: &str) -> PathBuf {
 }
 
 /// A small ensemble: two thresholds, three members each, 60 updates.
-const SMALL: &str = "steps: 60, every: 10, members: 3, seed: 5, vary: (shatter_threshold: [2.0, 4.0]), threads: 1";
+const SMALL: &str =
+    "steps: 60, every: 10, members: 3, seed: 5, vary: (shatter_threshold: [2.0, 4.0]), execution: (threads: 1)";
 
 /// `kessler ensemble CONFIG --out OUT ARGS...`, run to its end.
 fn ensemble(config: &Path, out: &Path, args: &[&str]) -> std::process::Output {
@@ -323,7 +324,7 @@ fn signal(pid: u32, name: &str) {
 }
 
 /// Members that take a second or two each.
-const SLOW: &str = "steps: 1500, every: 100, members: 3, seed: 9, threads: 1";
+const SLOW: &str = "steps: 1500, every: 100, members: 3, seed: 9, execution: (threads: 1)";
 
 #[cfg(target_os = "linux")]
 #[test]
@@ -635,7 +636,11 @@ fn sbatch_refusing_the_job_is_one_clear_line() {
 #[test]
 fn aggregate_replaces_only_regular_files() {
     let tmp = tempfile::tempdir().unwrap();
-    let cfg = config(tmp.path(), "one.ron", "steps: 20, every: 10, members: 1, threads: 1");
+    let cfg = config(
+        tmp.path(),
+        "one.ron",
+        "steps: 20, every: 10, members: 1, execution: (threads: 1)",
+    );
     let out = tmp.path().join("ens");
     let run = ensemble(&cfg, &out, &[]);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));

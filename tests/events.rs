@@ -13,7 +13,8 @@ use common::binary::kessler;
 use kessler::Simulation;
 use kessler::components::BodyState;
 use kessler::execution::{Execution, ExecutionMode};
-use kessler::scenario::{Event, Remove, Scenario, write_session};
+use kessler::resources::{FragmentSizes, SimulationSettings};
+use kessler::scenario::{Event, Remove, Scenario, Template, write_session};
 
 /// One dumped body: id, position, velocity, mass, half extents.
 #[derive(Clone, Debug, PartialEq)]
@@ -454,4 +455,96 @@ fn a_session_of_tools_at_a_paused_update_replays_with_that_many_updates() {
         assert!(saved.events.is_empty(), "paused at update {at}: {:?}", saved.events);
         assert_eq!(saved.physics.shatter_threshold, 50.0);
     }
+}
+
+// The events' format, read from a scenario file and written back.
+
+/// The events of a scenario with two bodies and `events`, or the error.
+fn parse_events(events: &str) -> Result<Vec<Event>, String> {
+    Scenario::parse(
+        &format!("Scenario(bodies: [Body(position: (0, 0, 0)), Body(position: (5, 0, 0))], events: [{events}])"),
+        "e.ron",
+    )
+    .map(|s| s.events)
+    .map_err(|e| e.to_string())
+}
+
+#[test]
+fn every_kind_reads_with_its_defaults() {
+    let events = parse_events(
+        "Spawn(update: 3, bodies: [Body(position: (9, 9, 9))]),
+         Fire(update: 4, target: 1, speed: 5, distance: 50),
+         Breakup(update: 5, body: 0, fragments: 8, speed: 0.5, sizes: PowerLaw(exponent: 1.6)),
+         Remove(update: 6, body: 1),
+         Set(update: 7, shatter_threshold: 10, fragment_sizes: PowerLaw(exponent: 1.71))",
+    )
+    .unwrap();
+    assert_eq!(
+        events.iter().map(|e| (e.kind(), e.update())).collect::<Vec<_>>(),
+        [("Spawn", 3), ("Fire", 4), ("Breakup", 5), ("Remove", 6), ("Set", 7)]
+    );
+    let Event::Fire(fire) = &events[1] else { unreachable!() };
+    assert_eq!((fire.from, fire.body), (None, Template::default()));
+    let Event::Set(set) = &events[4] else { unreachable!() };
+    assert_eq!(set.settings.keys, ["shatter_threshold", "fragment_sizes"]);
+    let mut settings = SimulationSettings::DEFAULT;
+    set.apply(&mut settings);
+    assert_eq!(settings.shatter_threshold, 10.0);
+    assert_eq!(settings.fragment_sizes, FragmentSizes::PowerLaw { exponent: 1.71 });
+    assert_eq!(
+        settings.shatter_fragments,
+        SimulationSettings::DEFAULT.shatter_fragments
+    );
+}
+
+#[test]
+fn bad_events_name_the_event_and_the_field() {
+    for (events, needle) in [
+        (
+            "Fire(update: 4, target: 1, speed: -5, distance: 50)",
+            "field `events[0].speed`",
+        ),
+        (
+            "Remove(update: 1), Fire(update: 4, target: 1, speed: NaN, distance: 50)",
+            "events[0]",
+        ),
+        (
+            "Remove(update: 1, body: 0), Fire(update: 4, target: 1, speed: NaN, distance: 50)",
+            "field `events[1].speed`",
+        ),
+        ("Remove(update: 1e13, body: 0)", "events[0].update"),
+        ("Remove(update: 1000000000001, body: 0)", "events[0].update"),
+        (
+            "Breakup(update: 1, body: 0, fragments: 1, speed: 1)",
+            "events[0].fragments",
+        ),
+        ("Explode(update: 1, body: 0)", "events[0]"),
+        ("Remove(update: 1, body: 0, when: 3)", "`when`"),
+        (
+            "Set(update: 1, time_step: 2)",
+            "events[0].time_step`: is applied on restart",
+        ),
+        ("Set(update: 1, shatter_threshold: -1)", "events[0].shatter_threshold"),
+        ("Set(update: 1, threshold: 1)", "unknown field `threshold`"),
+        ("Set(update: 1)", "at least one live setting"),
+    ] {
+        let e = parse_events(events).unwrap_err();
+        assert!(e.contains(needle) && e.starts_with("e.ron:"), "{events}: {e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+    }
+}
+
+#[test]
+fn a_set_writes_what_it_reads() {
+    let text = "Set(update: 9, shatter_fragments: 12, gravity: Tree(theta: 0.5))";
+    let events = parse_events(text).unwrap();
+    let written = ron::ser::to_string_pretty(
+        &events,
+        ron::ser::PrettyConfig::new()
+            .struct_names(true)
+            .extensions(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES),
+    )
+    .unwrap();
+    let again: Vec<Event> = ron::from_str(&written).unwrap_or_else(|e| panic!("{e}\n{written}"));
+    assert_eq!(again, events, "{written}");
 }

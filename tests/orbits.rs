@@ -200,7 +200,7 @@ fn a_virialised_cluster_keeps_its_energy_under_the_tree() {
         "Scenario(gravitational_constant: {g}, softening: {softening}, gravity: Tree(theta: 0.5), bodies: [{}])",
         bodies.join(",")
     ));
-    s.settings_mut().collisions = false;
+    s.settings_mut().stages.collisions = false;
     let energy = |s: &mut Simulation| {
         let bodies = s.snapshot();
         let ps: Vec<[f64; 3]> = bodies.iter().map(|b| b.position.as_dvec3().to_array()).collect();

@@ -504,12 +504,13 @@ fn no_folder_of_src_has_an_import_circle() {
     );
 }
 
-/// The module ladders (ARCHITECTURE.md, "The module ladder", points
-/// here): in each folder named, from the top down, every member (a file
-/// or a subfolder) names only members below it, unit tests included. The
-/// crate's top level first: the command line over the window over the
-/// ensembles and benchmarks, over the headless simulation, over its parts,
-/// down to what depends on nothing of Kessler's.
+/// The module ladders, one for every folder of two members or more
+/// (ARCHITECTURE.md, "The module ladder", shows them, and a test holds it
+/// to this table): in each folder named, from the top down, every member
+/// (a file or a subfolder) names only members below it, unit tests
+/// included. The crate's top level first: the command line over the window
+/// over the ensembles and benchmarks, over the headless simulation, over
+/// its parts, down to what depends on nothing of Kessler's.
 const LADDERS: &[(&str, &[&str])] = &[
     (
         "crate",
@@ -566,6 +567,186 @@ const LADDERS: &[(&str, &[&str])] = &[
             "app", "plugins", "overlay", "tools", "measure", "draw", "view", "session", "sets",
         ],
     ),
+    (
+        "crate::bench",
+        &[
+            "passes",
+            "dispatch",
+            "outputs",
+            "peak_memory",
+            "machine",
+            "plot",
+            "render",
+            "threads_plot",
+            "crossover",
+            "threads",
+            "report",
+            "measured_run",
+            "config",
+        ],
+    ),
+    ("crate::calibration", &["measure", "stored"]),
+    (
+        "crate::cli",
+        &[
+            "entry",
+            "bench",
+            "calibrate",
+            "ensemble",
+            "pairs",
+            "validate",
+            "window",
+            "headless",
+            "args",
+            "failure",
+        ],
+    ),
+    ("crate::components", &["body_state", "body"]),
+    (
+        "crate::ensemble",
+        &[
+            "aggregate",
+            "local_executor",
+            "member",
+            "preflight",
+            "slurm_executor",
+            "error",
+            "folder",
+            "plot",
+            "seeds",
+            "config",
+        ],
+    ),
+    (
+        "crate::execution",
+        &[
+            "pool",
+            "thread_copies",
+            "bevy_pool",
+            "claims",
+            "keep_warm",
+            "mode",
+            "policy",
+            "worker_pool",
+            "split",
+        ],
+    ),
+    (
+        "crate::input",
+        &[
+            "execution_options",
+            "read_file",
+            "spelling",
+            "user_files",
+            "limits",
+            "ron_text",
+            "value_checks",
+            "error",
+        ],
+    ),
+    ("crate::maths", &["float_order", "functions", "rng"]),
+    ("crate::memory", &["allowance", "heap"]),
+    (
+        "crate::output",
+        &["appended", "check", "figure", "message", "atomic", "csv", "png_image"],
+    ),
+    ("crate::physics", &["fragments", "totals", "aabb"]),
+    ("crate::record", &["dump", "state_hash"]),
+    (
+        "crate::resources",
+        &[
+            "body_ids",
+            "draw_method",
+            "memory_budget",
+            "settings_patch",
+            "settings_by_name",
+            "settings",
+            "setting_value",
+            "collision_detection",
+            "fragment_sizes",
+            "gravity_method",
+            "integrator",
+        ],
+    ),
+    (
+        "crate::scenario",
+        &[
+            "builtin",
+            "event_checks",
+            "fields",
+            "scale",
+            "snapshot",
+            "listed",
+            "load",
+            "contents",
+            "generators",
+            "initial_state",
+            "events",
+            "format",
+            "ron_form",
+            "field_checks",
+        ],
+    ),
+    ("crate::simulation", &["headless_run", "timeline"]),
+    (
+        "crate::systems::pipeline",
+        &[
+            "schedule",
+            "stage_clock",
+            "fault",
+            "timings",
+            "update_count",
+            "pair_limit",
+            "stages",
+        ],
+    ),
+    (
+        "crate::systems::response",
+        &["outcomes", "matching", "swept", "contact"],
+    ),
+    (
+        "crate::systems::sort",
+        &["sorted_boxes", "repair", "ordering", "filing", "boxes", "grid"],
+    ),
+    ("crate::timed_events", &["queue", "apply"]),
+    (
+        "crate::ui::draw",
+        &[
+            "celestials",
+            "instancing",
+            "meshes",
+            "present_mode",
+            "trails",
+            "atmosphere",
+            "body_colors",
+            "instanced_draw",
+            "planet_texture",
+            "backdrop",
+            "instance_slot",
+        ],
+    ),
+    (
+        "crate::ui::measure",
+        &["film", "capture", "frame_stats", "gpu_memory", "picture", "pipelines"],
+    ),
+    ("crate::ui::overlay", &["hud", "panel", "cascade", "widgets"]),
+    (
+        "crate::ui::session",
+        &[
+            "drive",
+            "output_failures",
+            "snapshot_save",
+            "startup",
+            "offscreen",
+            "scene",
+            "settings_file",
+            "update_clock",
+            "window_options",
+            "sandbox_settings",
+        ],
+    ),
+    ("crate::ui::tools", &["script", "actions", "rewind"]),
+    ("crate::ui::view", &["camera", "selection", "main_camera"]),
 ];
 
 /// The members of `graph` that name one at or above their own rung of
@@ -740,4 +921,48 @@ fn no_prose_numbers_a_stage() {
         }
     }
     assert!(found.is_empty(), "stages numbered in prose:\n{}", found.join("\n"));
+}
+
+/// Every folder of two members or more has a ladder: a new folder says its
+/// order, rather than growing one by chance.
+#[test]
+fn every_folder_of_src_has_a_ladder() {
+    let graphs = crate_graphs(true);
+    let missing: Vec<String> = graphs
+        .iter()
+        .filter(|(folder, graph)| graph.len() > 1 && !LADDERS.iter().any(|(f, _)| module(f) == **folder))
+        .map(|(folder, _)| folder.join("::"))
+        .collect();
+    assert!(missing.is_empty(), "folders without a ladder in LADDERS: {missing:?}");
+}
+
+/// The ladders as ARCHITECTURE.md lists them, a line each: the folder
+/// (`crate` is `src/`), then its members from the top down.
+fn ladders_as_listed() -> String {
+    LADDERS
+        .iter()
+        .map(|(folder, ladder)| {
+            let path = folder.strip_prefix("crate").unwrap_or(folder).replace("::", "/");
+            format!("- `src{path}/`: {}\n", ladder.join(" → "))
+        })
+        .collect()
+}
+
+/// ARCHITECTURE.md's list of the ladders is the table's, and its drawing of
+/// the crate's ladder names the crate's members in the table's order.
+#[test]
+fn the_architecture_map_lists_the_ladders_as_the_table_has_them() {
+    let map = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md")).unwrap();
+    let listed = ladders_as_listed();
+    assert!(
+        map.contains(&listed),
+        "ARCHITECTURE.md's list of the module ladders differs from LADDERS; it should read:\n{listed}"
+    );
+    let drawing = map
+        .split("### The module ladder")
+        .nth(1)
+        .and_then(|s| s.split("```").nth(1))
+        .expect("ARCHITECTURE.md draws the crate's ladder in a code block");
+    let drawn: Vec<&str> = drawing.lines().filter_map(|l| l.split_whitespace().next()).collect();
+    assert_eq!(drawn, LADDERS[0].1, "ARCHITECTURE.md's drawing of the crate's ladder");
 }

@@ -183,7 +183,7 @@ fn deflected_by_crossing_rings(dt: f64, detection: &str, phase: f64) -> usize {
     let updates = (260.0 / dt).round() as u64;
     let mut colliding = sim(&text);
     let mut free = sim(&text);
-    free.settings_mut().collisions = false;
+    free.settings_mut().stages.collisions = false;
     colliding.step(updates);
     free.step(updates);
     let (with, without) = (colliding.snapshot(), free.snapshot());

@@ -8,9 +8,8 @@ use serde::{Deserialize, Deserializer};
 
 use crate::WINDOW_BUILD;
 use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
-use crate::input::{InputError, body_count, execution_fields, load_ron, read, whole_between};
-use crate::resources as physics;
-use crate::resources::{DrawMethod, Override};
+use crate::input::{ExecutionOptions, InputError, body_count, load_ron, read, whole_between};
+use crate::resources::{DrawMethod, SettingsPatch, Stages};
 use crate::scenario::{MAX_BODIES, Scenario};
 
 /// A benchmark: runs of one scenario at several sizes and execution modes.
@@ -83,11 +82,12 @@ impl ThreadsRun {
         let run = |mode, threads| Run {
             bodies: self.bodies,
             updates: self.updates,
-            mode: Some(mode),
-            threads,
-            stages: Stages::default(),
-            split: (mode == ExecutionMode::Parallel).then_some(self.split),
-            pool: Some(WorkerPool::Kessler),
+            execution: ExecutionOptions {
+                mode: Some(mode),
+                threads,
+                split: (mode == ExecutionMode::Parallel).then_some(self.split),
+                pool: Some(WorkerPool::Kessler),
+            },
             ..Run::default()
         };
         std::iter::once(run(ExecutionMode::Sequential, Some(1)))
@@ -102,59 +102,44 @@ fn one_pass() -> u32 {
     1
 }
 
-/// Declares [`Run`], with a field for each setting the settings list lets
-/// a benchmark run give its own value of (`[bench]` in the list).
-macro_rules! declare_run {
-    ($(
-        $(#[doc = $doc:literal])* $field:ident $(as $key:literal)?: $ty:ty = $default:expr,
-            $rule:literal, $ok:expr, $applies:ident;
-    )*) => {
-        execution_fields! {
-        /// One measured run; how it executes: its own `mode`, `threads`,
-        /// `split` and `pool`, else the command line's (`kessler bench
-        /// --split …`), else the defaults (parallel on every hardware
-        /// thread, split `auto`).
-        #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
-        #[serde(deny_unknown_fields, rename = "Run")]
-        pub struct Run {
-            /// Generated bodies (the scenario's explicit bodies, e.g. the
-            /// planet, come on top), shared among its generators in
-            /// proportion.
-            #[serde(deserialize_with = "bodies")]
-            pub bodies: u64,
-            /// Updates to run and average over.
-            #[serde(deserialize_with = "updates")]
-            pub updates: u64,
-            /// Which stages are on (default: all).
-            #[serde(default)]
-            pub stages: Stages,
-            $(
-                #[doc = concat!("This run's own `", physics::key!($field $($key)?), "` (default: the scenario's):")]
-                $(#[doc = $doc])*
-                #[serde(default $(, rename = $key)?)]
-                pub $field: Override<physics::rows::$field>,
-            )*
-        }
-        }
-
-        impl Run {
-            /// `scenario` with this run's own values of the physics
-            /// settings, where it gives them.
-            pub fn apply_to(&self, scenario: &Scenario) -> Scenario {
-                let mut scenario = scenario.clone();
-                $(self.$field.over(&mut scenario.physics.$field);)*
-                scenario
-            }
-        }
-    };
+/// One measured run; how it executes: its own `execution`, else the
+/// command line's (`kessler bench --split …`), else the defaults (parallel
+/// on every hardware thread, split `auto`).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Run")]
+pub struct Run {
+    /// Generated bodies (the scenario's explicit bodies, e.g. the planet,
+    /// come on top), shared among its generators in proportion.
+    #[serde(deserialize_with = "bodies")]
+    pub bodies: u64,
+    /// Updates to run and average over.
+    #[serde(deserialize_with = "updates")]
+    pub updates: u64,
+    /// Which stages are on (default: all).
+    #[serde(default)]
+    pub stages: Stages,
+    /// This run's own values of physics settings, laid over the
+    /// scenario's: `settings: (seed: 5, shatter_threshold: 2.0)`.
+    #[serde(default)]
+    pub settings: SettingsPatch,
+    /// How it executes; what it leaves out, the command line decides.
+    #[serde(default)]
+    pub execution: ExecutionOptions,
 }
 
-physics::held_by!(bench declare_run);
+impl Run {
+    /// `scenario` with this run's own values of the physics settings,
+    /// where it gives them.
+    pub fn apply_to(&self, scenario: &Scenario) -> Scenario {
+        let mut scenario = scenario.clone();
+        self.settings.apply(&mut scenario.physics);
+        scenario
+    }
+}
 
-execution_fields! {
 /// A run that opens the window and measures frames (the thesis's
-/// Tables 1–3 and 5); its simulation executes as its `mode`, `threads`,
-/// `split` and `pool` say, else as the saved settings do.
+/// Tables 1–3 and 5); its simulation executes as its `execution` says,
+/// else as the saved settings do.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Render")]
 pub struct RenderRun {
@@ -181,31 +166,10 @@ pub struct RenderRun {
     /// no display needed, as on a GPU server (default off).
     #[serde(default)]
     pub offscreen: bool,
-}
-}
-
-/// Stage switches of a run; the names are
-/// [`SimulationSettings`](crate::resources::SimulationSettings)'s.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Stages {
-    /// The gravity stage.
-    pub gravity: bool,
-    /// Collision detection (the broad phase).
-    pub collisions: bool,
-    /// Bounce and shatter (`response` in older configs).
-    #[serde(alias = "response")]
-    pub collision_response: bool,
-}
-
-impl Default for Stages {
-    fn default() -> Self {
-        Self {
-            gravity: true,
-            collisions: true,
-            collision_response: true,
-        }
-    }
+    /// How its simulation executes; what it leaves out, the saved
+    /// settings decide.
+    #[serde(default)]
+    pub execution: ExecutionOptions,
 }
 
 fn repeat<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {

@@ -5,37 +5,107 @@ use std::fmt::Write as _;
 
 use crate::Simulation;
 use crate::execution::{Execution, ExecutionMode, available_threads};
+use crate::record::StateHash;
+use crate::resources::SettingsPatch;
 use crate::scenario::Scenario;
 use crate::systems::Kernel;
 
-/// The reference run whose state hash the report gives: a collapse under
-/// tree gravity that shatters, so that two machines whose hashes agree
-/// compute the gravity kernels, the shatters and the maths alike.
-const REFERENCE: &str = include_str!("../../scenarios/collapse.ron");
+/// A run whose state hash a machine report gives: two machines whose
+/// hashes agree compute alike, and results whose hashes this code still
+/// gives were measured on code that behaves as this code does (CI checks
+/// every file in benches/results against them: docs/benchmarks.md,
+/// "Regenerating the results").
+#[derive(Clone, Copy, Debug)]
+pub struct Reference {
+    /// The report's key, `reference state hash`.
+    pub key: &'static str,
+    /// The scenario, as the report names it.
+    pub file: &'static str,
+    /// The scenario's text, built in.
+    text: &'static str,
+    /// Physics settings laid over the scenario's, as a benchmark run's
+    /// `settings: (…)` writes them (`()`: none).
+    pub settings: &'static str,
+    /// Updates run.
+    pub updates: u64,
+    /// What agreeing hashes show.
+    meaning: &'static str,
+}
 
-/// Updates of the reference run.
-const REFERENCE_UPDATES: u64 = 50;
+/// The runs whose state hashes a report gives: a collapse under tree
+/// gravity that shatters, with Kessler's default algorithms (swept
+/// detection, the leapfrog), and a cascade of shatters with the thesis's
+/// (`Discrete`, `SemiImplicitEuler`), which the benchmark configs measure
+/// (the thesis scene itself is too sparse to shatter within a short run).
+pub const REFERENCES: [Reference; 2] = [
+    Reference {
+        key: "reference state hash",
+        file: "scenarios/collapse.ron",
+        text: include_str!("../../scenarios/collapse.ron"),
+        settings: "()",
+        updates: 50,
+        meaning: "equal hashes: this machine computes as that one",
+    },
+    Reference {
+        key: "thesis state hash",
+        file: "scenarios/cascade.ron",
+        text: include_str!("../../scenarios/cascade.ron"),
+        settings: "(collision_detection: Discrete, integrator: SemiImplicitEuler)",
+        updates: 30,
+        meaning: "the thesis's algorithms, as the benchmarks run them",
+    },
+];
 
-/// The state hash of the reference run, and what it is.
-pub fn reference_hash() -> String {
-    let scenario =
-        Scenario::parse(REFERENCE, "scenarios/collapse.ron (built in)").expect("a shipped scenario (tested)");
-    let execution = Execution::new(ExecutionMode::Sequential, 1).expect("one thread");
-    match Simulation::from_scenario(&scenario, execution) {
-        Ok(mut sim) => {
-            sim.step(REFERENCE_UPDATES);
-            format!(
-                "{} (scenarios/collapse.ron, {REFERENCE_UPDATES} updates; equal hashes: this machine computes as that one)",
-                sim.state_hash()
-            )
+impl Reference {
+    /// The run's scenario, its settings laid over it.
+    pub fn scenario(&self) -> Result<Scenario, String> {
+        let mut scenario =
+            Scenario::parse(self.text, &format!("{} (built in)", self.file)).map_err(|e| e.to_string())?;
+        let settings: SettingsPatch = ron::from_str(self.settings).map_err(|e| e.to_string())?;
+        settings.apply(&mut scenario.physics);
+        Ok(scenario)
+    }
+
+    /// The state hash of the run, sequential on one thread (every
+    /// execution gives the same).
+    pub fn state_hash(&self) -> Result<StateHash, String> {
+        let scenario = self.scenario()?;
+        let execution = Execution::new(ExecutionMode::Sequential, 1).map_err(|e| e.to_string())?;
+        let mut sim = Simulation::from_scenario(&scenario, execution).map_err(|e| e.to_string())?;
+        sim.step(self.updates);
+        Ok(sim.state_hash())
+    }
+
+    /// The report's value: the hash, and what it is.
+    fn line(&self) -> String {
+        match self.state_hash() {
+            Ok(hash) => format!("{hash} ({}, {} updates; {})", self.run(), self.updates, self.meaning),
+            Err(e) => format!("unknown ({e})"),
         }
-        Err(e) => format!("unknown ({e})"),
+    }
+
+    /// The run in words: the scenario, and the settings laid over it.
+    pub fn run(&self) -> String {
+        match self.settings.trim_start_matches('(').trim_end_matches(')') {
+            "" => self.file.to_owned(),
+            settings => format!("{} with {settings}", self.file),
+        }
+    }
+
+    /// The hash a report's text gives for this run, if it gives one.
+    pub fn recorded_in(&self, report: &str) -> Option<StateHash> {
+        let value = report
+            .lines()
+            .find_map(|l| l.strip_prefix(self.key)?.strip_prefix(": "))?;
+        u64::from_str_radix(value.split_whitespace().next()?, 16)
+            .ok()
+            .map(StateHash)
     }
 }
 
 /// A `key: value` line per fact: CPU model, cores and threads, memory, OS,
 /// rustc, Kessler's version and commit, the gravity kernel the processor
-/// runs, the reference run's state hash, the date (UTC), and the command.
+/// runs, the reference runs' state hashes, the date (UTC), and the command.
 pub fn machine_report(command: &str) -> String {
     let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
     let mut out = String::new();
@@ -59,7 +129,9 @@ pub fn machine_report(command: &str) -> String {
         format!("{} (commit {})", env!("CARGO_PKG_VERSION"), env!("KESSLER_GIT_COMMIT")),
     );
     line("gravity kernel", Kernel::best().name().to_owned());
-    line("reference state hash", reference_hash());
+    for reference in &REFERENCES {
+        line(reference.key, reference.line());
+    }
     line(
         "profile",
         if cfg!(debug_assertions) { "debug" } else { "release" }.to_owned(),

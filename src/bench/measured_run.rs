@@ -77,15 +77,13 @@ pub fn measure(
     defaults: &RunDefaults,
     mut progress: impl FnMut(u64),
 ) -> Result<RunResult, RunError> {
-    let options = run.execution().or(defaults.execution);
+    let options = run.execution.or(defaults.execution);
     let execution = options.build(defaults.auto.clone())?;
     let threads = execution.threads_used();
     let mut sim = Simulation::from_scenario(scenario, execution)?;
     {
         let mut settings = sim.settings_mut();
-        settings.gravity = run.stages.gravity;
-        settings.collisions = run.stages.collisions;
-        settings.collision_response = run.stages.collision_response;
+        settings.stages = run.stages;
     }
     sim.step(1);
     sim.timings_mut().reset();

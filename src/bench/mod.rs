@@ -18,10 +18,10 @@ mod threads;
 mod threads_plot;
 
 pub use crate::output::{Labels, PLOT_SIZE, PlotError};
-pub use config::{BenchConfig, BenchRun, MAX_REPEAT, RenderRun, Run, Stages, ThreadsRun};
+pub use config::{BenchConfig, BenchRun, MAX_REPEAT, RenderRun, Run, ThreadsRun};
 pub use crossover::{Crossover, Wins, crossovers};
 pub use dispatch::empty_step_ns;
-pub use machine::{machine_report, plot_footer, this_cpu, utc_now};
+pub use machine::{REFERENCES, Reference, machine_report, plot_footer, this_cpu, utc_now};
 #[cfg(test)]
 pub use measured_run::test_result;
 pub use measured_run::{RunDefaults, RunError, RunResult, measure, median_pass};

@@ -57,7 +57,7 @@ pub fn measure_passes(
     let mut medians = Vec::new();
     for pass in 1..=passes {
         for (k, &(i, run)) in runs.iter().enumerate() {
-            progress.start(i, pass, run, run.execution().or(defaults.execution).mode());
+            progress.start(i, pass, run, run.execution.or(defaults.execution).mode());
             reset_peak_memory();
             let result = measure(i + 1, &sized[i], run, defaults, |done| progress.advance(done))
                 .map_err(|error| PassError::Run { index: i, error })?;

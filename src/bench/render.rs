@@ -117,7 +117,7 @@ crate::csv_row!(RenderRow, |r| {
     bodies: r.report.bodies,
     method: r.run.method,
     simulate: r.run.simulate,
-    mode: r.run.execution().mode(),
+    mode: r.run.execution.mode(),
     vsync: if r.run.vsync { "on" } else { "off" },
     frames: r.report.frames,
     mean_fps: format_args!("{:.2}", r.fps()),
@@ -150,7 +150,7 @@ pub fn child_args(run: &RenderRun, scenario: Option<&Path>, report: &Path, setti
             "--vsync",
             if run.vsync { "on" } else { "off" },
             "--mode",
-            run.execution().mode().name(),
+            run.execution.mode().name(),
             "--ups",
             &run.ups.unwrap_or(60).to_string(),
             "--settings",
@@ -166,7 +166,7 @@ pub fn child_args(run: &RenderRun, scenario: Option<&Path>, report: &Path, setti
     if run.offscreen {
         args.push("--offscreen".into());
     }
-    let options = run.execution();
+    let options = run.execution;
     let given = [
         ("--threads", options.threads.map(|t| t.to_string())),
         ("--split", options.split.map(|s| s.to_string())),
@@ -222,10 +222,10 @@ mod tests {
             ups: None,
             vsync: false,
             offscreen: false,
-            mode: Some(ExecutionMode::Parallel),
-            threads: None,
-            split: None,
-            pool: None,
+            execution: crate::input::ExecutionOptions {
+                mode: Some(ExecutionMode::Parallel),
+                ..crate::input::ExecutionOptions::default()
+            },
         }
     }
 

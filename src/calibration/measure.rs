@@ -7,10 +7,9 @@
 use std::collections::BTreeMap;
 
 use super::Calibration;
-use crate::bench::{
-    Crossover, Run, RunDefaults, RunError, RunResult, Stages, Wins, crossovers, measure, this_cpu, utc_now,
-};
+use crate::bench::{Crossover, Run, RunDefaults, RunError, RunResult, Wins, crossovers, measure, this_cpu, utc_now};
 use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool};
+use crate::input::ExecutionOptions;
 use crate::scenario::Scenario;
 
 /// Body counts measured.
@@ -53,11 +52,12 @@ fn runs_at(bodies: u64, threads: usize) -> [Run; 2] {
     let run = |mode, split| Run {
         bodies,
         updates: updates_for(bodies),
-        mode: Some(mode),
-        threads: Some(threads),
-        stages: Stages::default(),
-        split: Some(split),
-        pool: Some(WorkerPool::Kessler),
+        execution: ExecutionOptions {
+            mode: Some(mode),
+            threads: Some(threads),
+            split: Some(split),
+            pool: Some(WorkerPool::Kessler),
+        },
         ..Run::default()
     };
     [

@@ -12,19 +12,16 @@ use serde::ser::{SerializeSeq, SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use crate::execution::ExecutionMode;
-use crate::input::{
-    ExecutionOptions, FieldName, InputError, MAX_UPDATES, execution_fields, parse_ron, read_text, whole_between,
-};
-use crate::resources::{self as physics, SETTINGS, SimulationSettings};
+use crate::input::{ExecutionOptions, FieldName, InputError, MAX_UPDATES, parse_ron, read_text, whole_between};
+use crate::resources::{self as physics, SimulationSettings, settings};
 
 /// Most members one ensemble may have, over all its combinations.
 pub const MAX_MEMBERS: u64 = 1_000_000;
 
-execution_fields! {
 /// An ensemble: `members` runs of one scenario for every combination of
 /// the varied settings, each with a seed of its own. Each member executes
-/// as its `mode`, `threads`, `split` and `pool` say (results are the same
-/// either way), else as [`MEMBER_EXECUTION`] does.
+/// as its `execution` says (results are the same either way), else as
+/// [`MEMBER_EXECUTION`] does.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, rename = "Ensemble")]
 pub struct EnsembleConfig {
@@ -42,12 +39,15 @@ pub struct EnsembleConfig {
     #[serde(deserialize_with = "members")]
     pub members: u64,
     /// The ensemble's own seed, from which every member's is mixed.
-    #[serde(default = "default_seed", deserialize_with = "physics::read::seed")]
+    #[serde(default = "default_seed", deserialize_with = "seed")]
     pub seed: u64,
     /// Physics settings to vary: every combination of their values.
     #[serde(default, skip_serializing_if = "Vary::is_empty")]
     pub vary: Vary,
-}
+    /// How each member executes; what it leaves out, [`MEMBER_EXECUTION`]
+    /// gives.
+    #[serde(default, skip_serializing_if = "ExecutionOptions::is_empty")]
+    pub execution: ExecutionOptions,
 }
 
 /// How a member executes where the config does not say: parallel on one
@@ -66,6 +66,10 @@ fn default_every() -> u64 {
 
 fn default_seed() -> u64 {
     1
+}
+
+fn seed<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    physics::rules::SEED.read(d)
 }
 
 fn steps<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
@@ -168,7 +172,7 @@ impl<'de> Deserialize<'de> for Vary {
                 while let Some(FieldName(key)) = map.next_key()? {
                     let field = format!("vary.{key}");
                     let Some(info) = physics::setting(&key) else {
-                        let names: Vec<String> = SETTINGS.iter().map(|s| format!("`{}`", s.key)).collect();
+                        let names: Vec<String> = settings().iter().map(|s| format!("`{}`", s.key)).collect();
                         return Err(de::Error::custom(format!(
                             "field `vary`: no physics setting is named `{key}`; the settings: {}",
                             names.join(", ")
@@ -242,7 +246,7 @@ impl EnsembleConfig {
     /// How each member executes: the config's options, else
     /// [`MEMBER_EXECUTION`]'s.
     pub fn member_execution(&self) -> ExecutionOptions {
-        self.execution().or(MEMBER_EXECUTION)
+        self.execution.or(MEMBER_EXECUTION)
     }
 
     /// Reads and checks a config file.
@@ -354,7 +358,7 @@ mod tests {
     #[test]
     fn a_config_writes_and_reads_back_the_same() {
         let config = parse(
-            "Ensemble(scenario: \"s.ron\", steps: 10, every: 5, members: 2, seed: 9, vary: (fragment_spread: [0.1, 0.30000001]), mode: Sequential, threads: 2)",
+            "Ensemble(scenario: \"s.ron\", steps: 10, every: 5, members: 2, seed: 9, vary: (fragment_spread: [0.1, 0.30000001]), execution: (mode: Sequential, threads: 2))",
         )
         .unwrap();
         let text = ron::ser::to_string_pretty(&config, ron::ser::PrettyConfig::new().struct_names(true)).unwrap();
@@ -407,7 +411,7 @@ mod tests {
                 "field `vary.time_step`: named twice",
             ),
             (
-                "Ensemble(steps: 1, members: 1, threads: 0)",
+                "Ensemble(steps: 1, members: 1, execution: (threads: 0))",
                 "field `threads`: must be between 1 and 256",
             ),
             (

@@ -1,12 +1,12 @@
 //! [`ExecutionOptions`]: how a simulation executes, as a user asks for it —
-//! declared once. The command line's `--mode`, `--threads`, `--split` and
-//! `--pool` (every command that simulates flattens this type), the fields
-//! of the same names in a benchmark config's runs and an ensemble config
-//! ([`execution_fields!`](crate::execution_fields)), and the window's
-//! saved settings all become an [`Execution`] here, in [`ExecutionOptions::build`].
+//! one struct everywhere. The command line's `--mode`, `--threads`,
+//! `--split` and `--pool` (every command that simulates flattens it), a
+//! benchmark run's and an ensemble's `execution: (…)`, and the window's
+//! saved settings all hold it, and all become an [`Execution`] here, in
+//! [`ExecutionOptions::build`].
 
 use clap::Args;
-use serde::{Deserializer, Serialize, Serializer};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::{read, whole_between};
 use crate::execution::{
@@ -15,23 +15,46 @@ use crate::execution::{
 
 /// How a simulation executes; an option left out takes the default of
 /// whoever asks (the command line's: parallel, every hardware thread,
-/// split `auto`, Kessler's pool).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Args)]
+/// split `auto`, Kessler's pool). In files, `(mode: Parallel, threads: 2)`:
+/// each option checked as the command line checks it, and written without
+/// `Some(…)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Args, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields, rename = "Execution")]
 pub struct ExecutionOptions {
     /// Sequential or parallel stages.
     #[arg(long, value_enum)]
+    #[serde(
+        deserialize_with = "read_mode",
+        serialize_with = "write_some",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub mode: Option<ExecutionMode>,
     /// Worker threads in parallel mode, at most 256.
     #[arg(long, value_parser = super::threads_arg, allow_negative_numbers = true)]
+    #[serde(
+        deserialize_with = "read_threads",
+        serialize_with = "write_some",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub threads: Option<usize>,
     /// From which body count stages split their work in parallel mode:
     /// `auto` (this machine's calibration, see `kessler calibrate`),
     /// `always`, or a body count.
     #[arg(long, value_name = "auto|always|N", allow_negative_numbers = true)]
+    #[serde(
+        deserialize_with = "read_split",
+        serialize_with = "write_some",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub split: Option<SplitPolicy>,
     /// Which pool runs the parallel steps: Kessler's own, or Bevy's
     /// `ComputeTaskPool` (the same results).
     #[arg(long, value_enum)]
+    #[serde(
+        deserialize_with = "read_pool",
+        serialize_with = "write_some",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub pool: Option<WorkerPool>,
 }
 
@@ -50,6 +73,76 @@ pub const EXECUTION_HEADING: &str = concat!("Execution ", defaults!());
 pub const BENCH_EXECUTION_HEADING: &str = concat!("Execution of the runs that do not say ", defaults!());
 
 impl ExecutionOptions {
+    /// Every option given, at its default (parallel, every hardware
+    /// thread, split `auto`, Kessler's pool).
+    pub fn defaults() -> Self {
+        Self::default().resolved()
+    }
+
+    /// Every option given: the left-out ones at their defaults.
+    pub fn resolved(self) -> Self {
+        Self {
+            mode: Some(self.mode()),
+            threads: Some(self.threads()),
+            split: Some(self.split()),
+            pool: Some(self.pool()),
+        }
+    }
+
+    /// The options `execution` runs with, every one given.
+    pub fn of(execution: &Execution) -> Self {
+        Self {
+            mode: Some(execution.mode()),
+            threads: Some(execution.threads()),
+            split: Some(execution.split()),
+            pool: Some(execution.pool()),
+        }
+    }
+
+    /// Makes `execution` run as these options ask (the left-out ones at
+    /// their defaults), changing only what differs.
+    pub fn apply_to(self, execution: &mut Execution) -> Result<(), ExecutionError> {
+        let wanted = self.resolved();
+        let now = Self::of(execution);
+        if now.mode != wanted.mode {
+            execution.set_mode(self.mode());
+        }
+        if now.split != wanted.split {
+            execution.set_split(self.split());
+        }
+        if now.pool != wanted.pool {
+            execution.set_pool(self.pool());
+        }
+        if now.threads != wanted.threads {
+            execution.set_threads(self.threads())?;
+        }
+        Ok(())
+    }
+
+    /// Reads the option named `key` from `map`, of its type but with a
+    /// thread count of any size (the window's settings, which hold it to
+    /// this machine's range afterwards rather than refuse it); `Ok(false)`
+    /// where no option has that name (the value is then not read).
+    pub fn read_field_unchecked<'de, A: serde::de::MapAccess<'de>>(
+        &mut self,
+        key: &str,
+        map: &mut A,
+    ) -> Result<bool, A::Error> {
+        match key {
+            "mode" => self.mode = Some(map.next_value()?),
+            "threads" => self.threads = Some(map.next_value()?),
+            "split" => self.split = Some(map.next_value()?),
+            "pool" => self.pool = Some(map.next_value()?),
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// Whether every option is left out.
+    pub fn is_empty(&self) -> bool {
+        *self == Self::default()
+    }
+
     /// Every option as given, each left-out one as in `under`.
     pub fn or(self, under: Self) -> Self {
         Self {
@@ -90,90 +183,28 @@ impl ExecutionOptions {
     }
 }
 
-/// Declares a config struct (RON) with its own fields and then the
-/// execution options' four, `mode`, `threads`, `split` and `pool`, each
-/// optional, checked as the command line checks them, and written back
-/// without `Some(…)`; `execution()` hands them over as
-/// [`ExecutionOptions`]. (serde's `flatten` would say the same, but RON
-/// cannot read a flattened struct.)
-macro_rules! execution_fields {
-    ($(#[$meta:meta])* pub struct $name:ident { $($body:tt)* }) => {
-        $(#[$meta])*
-        pub struct $name {
-            $($body)*
-            /// Sequential or parallel stages.
-            #[serde(
-                default,
-                deserialize_with = "crate::input::execution_options::read_mode",
-                serialize_with = "crate::input::execution_options::write_some",
-                skip_serializing_if = "Option::is_none"
-            )]
-            pub mode: Option<crate::execution::ExecutionMode>,
-            /// Worker threads in parallel mode, 1 to 256.
-            #[serde(
-                default,
-                deserialize_with = "crate::input::execution_options::read_threads",
-                serialize_with = "crate::input::execution_options::write_some",
-                skip_serializing_if = "Option::is_none"
-            )]
-            pub threads: Option<usize>,
-            /// From which body count stages split their work in parallel
-            /// mode.
-            #[serde(
-                default,
-                deserialize_with = "crate::input::execution_options::read_split",
-                serialize_with = "crate::input::execution_options::write_some",
-                skip_serializing_if = "Option::is_none"
-            )]
-            pub split: Option<crate::execution::SplitPolicy>,
-            /// Which pool runs the parallel steps.
-            #[serde(
-                default,
-                deserialize_with = "crate::input::execution_options::read_pool",
-                serialize_with = "crate::input::execution_options::write_some",
-                skip_serializing_if = "Option::is_none"
-            )]
-            pub pool: Option<crate::execution::WorkerPool>,
-        }
-
-        impl $name {
-            /// How this executes; what it leaves out, whoever runs it
-            /// decides.
-            pub fn execution(&self) -> crate::input::ExecutionOptions {
-                crate::input::ExecutionOptions {
-                    mode: self.mode,
-                    threads: self.threads,
-                    split: self.split,
-                    pool: self.pool,
-                }
-            }
-        }
-    };
-}
-pub(crate) use execution_fields;
-
-/// `mode` in a config.
-pub fn read_mode<'de, D: Deserializer<'de>>(d: D) -> Result<Option<ExecutionMode>, D::Error> {
+/// `mode` in a file.
+fn read_mode<'de, D: Deserializer<'de>>(d: D) -> Result<Option<ExecutionMode>, D::Error> {
     read(d, "mode").map(Some)
 }
 
-/// `threads` in a config: 1 to [`MAX_THREADS`].
-pub fn read_threads<'de, D: Deserializer<'de>>(d: D) -> Result<Option<usize>, D::Error> {
+/// `threads` in a file: 1 to [`MAX_THREADS`].
+fn read_threads<'de, D: Deserializer<'de>>(d: D) -> Result<Option<usize>, D::Error> {
     whole_between(d, "threads", 1, MAX_THREADS).map(Some)
 }
 
-/// `split` in a config.
-pub fn read_split<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SplitPolicy>, D::Error> {
+/// `split` in a file.
+fn read_split<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SplitPolicy>, D::Error> {
     read(d, "split").map(Some)
 }
 
-/// `pool` in a config.
-pub fn read_pool<'de, D: Deserializer<'de>>(d: D) -> Result<Option<WorkerPool>, D::Error> {
+/// `pool` in a file.
+fn read_pool<'de, D: Deserializer<'de>>(d: D) -> Result<Option<WorkerPool>, D::Error> {
     read(d, "pool").map(Some)
 }
 
 /// An option that is there, written as its value.
-pub fn write_some<T: Serialize, S: Serializer>(value: &Option<T>, s: S) -> Result<S::Ok, S::Error> {
+fn write_some<T: Serialize, S: Serializer>(value: &Option<T>, s: S) -> Result<S::Ok, S::Error> {
     match value {
         Some(value) => value.serialize(s),
         None => s.serialize_none(),
@@ -211,6 +242,32 @@ mod tests {
                 pool: None,
             }
         );
+    }
+
+    #[test]
+    fn a_file_gives_the_options_as_the_command_line_does() {
+        let read = |text: &str| ron::from_str::<ExecutionOptions>(text).map_err(|e| e.to_string());
+        let options = read("(mode: Sequential, threads: 3, split: Above(500), pool: Bevy)").unwrap();
+        assert_eq!(
+            options,
+            ExecutionOptions {
+                mode: Some(ExecutionMode::Sequential),
+                threads: Some(3),
+                split: Some(SplitPolicy::Above(500)),
+                pool: Some(WorkerPool::Bevy),
+            }
+        );
+        assert_eq!(read(&ron::to_string(&options).unwrap()), Ok(options), "written as read");
+        assert_eq!(read("()"), Ok(ExecutionOptions::default()));
+        for (text, needle) in [
+            ("(threads: 0)", "threads"),
+            ("(threads: 257)", "threads"),
+            ("(mode: Fast)", "mode"),
+            ("(cores: 2)", "Unexpected field named `cores`"),
+        ] {
+            assert!(read(text).unwrap_err().contains(needle), "{text}: {:?}", read(text));
+        }
+        assert_eq!(ExecutionOptions::defaults().threads, Some(available_threads()));
     }
 
     #[test]

@@ -11,7 +11,6 @@ mod user_files;
 mod value_checks;
 
 pub use error::InputError;
-pub(crate) use execution_options::execution_fields;
 pub use execution_options::{BENCH_EXECUTION_HEADING, EXECUTION_HEADING, ExecutionOptions};
 pub use limits::{
     MAX_RUN_BODIES, MAX_UPDATES, jobs_arg, positive_count_arg, run_bodies_arg, threads_arg, updates_arg, ups_arg,

@@ -9,6 +9,8 @@ mod integrator;
 mod memory_budget;
 mod setting_value;
 mod settings;
+mod settings_by_name;
+mod settings_patch;
 
 pub use body_ids::{MAX_ID, NextBodyId};
 pub use collision_detection::CollisionDetection;
@@ -20,6 +22,7 @@ pub use memory_budget::{MemoryBudget, gigabytes};
 pub use setting_value::{SettingValue, problem};
 pub use settings::{
     Applies, MAX_BODIES, MAX_FRAGMENT_SPREAD, MAX_FRAGMENTS, MAX_GRAVITATIONAL_CONSTANT, MAX_LENGTH, MAX_TIME_STEP,
-    Override, Row, SETTINGS, SettingInfo, SimulationSettings, check, read, rows, setting, unknown_setting,
+    Rule, SimulationSettings, Stages, Visit, rules,
 };
-pub(crate) use settings::{held_by, key, physics_settings, pick_rows};
+pub use settings_by_name::{SettingInfo, as_written, setting, settings, unknown_setting};
+pub use settings_patch::SettingsPatch;

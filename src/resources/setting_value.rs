@@ -11,7 +11,7 @@ use super::{CollisionDetection, FragmentSizes, GravityMethod, Integrator};
 use crate::input::{f32_where, shown_number, whole};
 
 /// A physics setting's type.
-pub trait SettingValue: Copy + PartialEq + Debug + Serialize + for<'de> Deserialize<'de> {
+pub trait SettingValue: Copy + PartialEq + Debug + Serialize + for<'de> Deserialize<'de> + 'static {
     /// Whether the value is usable at all, whatever the setting's rule: a
     /// number must be finite.
     fn sound(&self) -> bool {

@@ -7,8 +7,8 @@ use super::format::{Body, Generator};
 use crate::resources::SimulationSettings;
 
 /// A whole scenario: physics settings, explicit bodies and generators. The
-/// physics settings are fields of the file itself, one per row of the
-/// settings list ([`crate::resources::SETTINGS`]), read and written by it
+/// physics settings are fields of the file itself, one per setting, read
+/// and written by their rules ([`crate::resources::rules`])
 /// (`scenario/fields.rs`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scenario {

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use super::field_checks;
 use super::format::{Body, Generator, Template, given};
 use crate::input::FieldName;
-use crate::resources::{Applies, FragmentSizes, SETTINGS, SimulationSettings, setting};
+use crate::resources::{Applies, FragmentSizes, SettingsPatch, SimulationSettings, setting, settings as settings_list};
 
 /// One event. Each happens after `update` updates have run, before the
 /// next; events of one update in file order.
@@ -129,33 +129,22 @@ pub struct Remove {
 pub struct Set {
     /// Updates run before it happens.
     pub update: u64,
-    /// The new values: the defaults with those of `keys` changed.
-    pub values: SimulationSettings,
-    /// The settings it changes, in file order.
-    pub keys: Vec<&'static str>,
+    /// The live settings it changes, and their new values.
+    pub settings: SettingsPatch,
 }
 
 impl Set {
     /// A `Set` at `update` of the live settings in which `to` differs
     /// from `from` (none: `None`).
     pub fn between(update: u64, from: &SimulationSettings, to: &SimulationSettings) -> Option<Self> {
-        let keys: Vec<&'static str> = SETTINGS
-            .iter()
-            .filter(|s| s.applies == Applies::Live && from.shown(s.key) != to.shown(s.key))
-            .map(|s| s.key)
-            .collect();
-        (!keys.is_empty()).then(|| Self {
-            update,
-            values: to.clone(),
-            keys,
-        })
+        let live = from.differing(to).into_iter().filter(|s| s.applies == Applies::Live);
+        let settings = SettingsPatch::of(to, live.map(|s| s.key));
+        (!settings.is_empty()).then_some(Self { update, settings })
     }
 
     /// Takes its values over into `settings`.
     pub fn apply(&self, settings: &mut SimulationSettings) {
-        for key in &self.keys {
-            settings.take(key, &self.values);
-        }
+        self.settings.apply(settings);
     }
 }
 
@@ -231,8 +220,7 @@ impl<'de> Deserialize<'de> for Set {
             }
             fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Set, A::Error> {
                 let mut update = None;
-                let mut values = SimulationSettings::DEFAULT;
-                let mut keys: Vec<&'static str> = Vec::new();
+                let mut settings = SettingsPatch::default();
                 while let Some(FieldName(key)) = map.next_key()? {
                     if key == "update" {
                         if update.is_some() {
@@ -241,7 +229,7 @@ impl<'de> Deserialize<'de> for Set {
                         update = Some(map.next_value_seed(Update)?);
                         continue;
                     }
-                    let live: Vec<String> = SETTINGS
+                    let live: Vec<String> = settings_list()
                         .iter()
                         .filter(|s| s.applies == Applies::Live)
                         .map(|s| format!("`{}`", s.key))
@@ -259,19 +247,15 @@ impl<'de> Deserialize<'de> for Set {
                             live.join(", ")
                         )));
                     }
-                    if keys.contains(&info.key) {
-                        return Err(de::Error::custom(format!("duplicate field `{key}`")));
-                    }
-                    values.read_field(info.key, &mut map)?;
-                    keys.push(info.key);
+                    settings.read_field(info.key, &mut map)?;
                 }
                 let update = update.ok_or_else(|| de::Error::custom("missing field `update`"))?;
-                if keys.is_empty() {
+                if settings.is_empty() {
                     return Err(de::Error::custom(
                         "field `update`: a Set needs at least one live setting beside it",
                     ));
                 }
-                Ok(Set { update, values, keys })
+                Ok(Set { update, settings })
             }
         }
         d.deserialize_struct("Set", &["update"], SetVisitor)
@@ -290,113 +274,9 @@ impl<'de> DeserializeSeed<'de> for Update {
 
 impl Serialize for Set {
     fn serialize<S: Serializer>(&self, out: S) -> Result<S::Ok, S::Error> {
-        /// One setting's value, written as the list writes it.
-        struct Value<'a>(&'a SimulationSettings, &'static str);
-        impl Serialize for Value<'_> {
-            fn serialize<S: Serializer>(&self, out: S) -> Result<S::Ok, S::Error> {
-                self.0.serialize_value(self.1, out)
-            }
-        }
-        let mut s = out.serialize_struct("Set", 1 + self.keys.len())?;
+        let mut s = out.serialize_struct("Set", 1 + self.settings.keys.len())?;
         s.serialize_field("update", &self.update)?;
-        for key in &self.keys {
-            s.serialize_field(key, &Value(&self.values, key))?;
-        }
+        self.settings.serialize_fields(&mut s)?;
         s.end()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scenario::Scenario;
-
-    fn parse(events: &str) -> Result<Vec<Event>, String> {
-        Scenario::parse(
-            &format!("Scenario(bodies: [Body(position: (0, 0, 0)), Body(position: (5, 0, 0))], events: [{events}])"),
-            "e.ron",
-        )
-        .map(|s| s.events)
-        .map_err(|e| e.to_string())
-    }
-
-    #[test]
-    fn every_kind_reads_with_its_defaults() {
-        let events = parse(
-            "Spawn(update: 3, bodies: [Body(position: (9, 9, 9))]),
-             Fire(update: 4, target: 1, speed: 5, distance: 50),
-             Breakup(update: 5, body: 0, fragments: 8, speed: 0.5, sizes: PowerLaw(exponent: 1.6)),
-             Remove(update: 6, body: 1),
-             Set(update: 7, shatter_threshold: 10, fragment_sizes: PowerLaw(exponent: 1.71))",
-        )
-        .unwrap();
-        assert_eq!(
-            events.iter().map(|e| (e.kind(), e.update())).collect::<Vec<_>>(),
-            [("Spawn", 3), ("Fire", 4), ("Breakup", 5), ("Remove", 6), ("Set", 7)]
-        );
-        let Event::Fire(fire) = &events[1] else { unreachable!() };
-        assert_eq!((fire.from, fire.body), (None, Template::default()));
-        let Event::Set(set) = &events[4] else { unreachable!() };
-        assert_eq!(set.keys, ["shatter_threshold", "fragment_sizes"]);
-        let mut settings = SimulationSettings::DEFAULT;
-        set.apply(&mut settings);
-        assert_eq!(settings.shatter_threshold, 10.0);
-        assert_eq!(settings.fragment_sizes, FragmentSizes::PowerLaw { exponent: 1.71 });
-        assert_eq!(
-            settings.shatter_fragments,
-            SimulationSettings::DEFAULT.shatter_fragments
-        );
-    }
-
-    #[test]
-    fn bad_events_name_the_event_and_the_field() {
-        for (events, needle) in [
-            (
-                "Fire(update: 4, target: 1, speed: -5, distance: 50)",
-                "field `events[0].speed`",
-            ),
-            (
-                "Remove(update: 1), Fire(update: 4, target: 1, speed: NaN, distance: 50)",
-                "events[0]",
-            ),
-            (
-                "Remove(update: 1, body: 0), Fire(update: 4, target: 1, speed: NaN, distance: 50)",
-                "field `events[1].speed`",
-            ),
-            ("Remove(update: 1e13, body: 0)", "events[0].update"),
-            ("Remove(update: 1000000000001, body: 0)", "events[0].update"),
-            (
-                "Breakup(update: 1, body: 0, fragments: 1, speed: 1)",
-                "events[0].fragments",
-            ),
-            ("Explode(update: 1, body: 0)", "events[0]"),
-            ("Remove(update: 1, body: 0, when: 3)", "`when`"),
-            (
-                "Set(update: 1, time_step: 2)",
-                "events[0].time_step`: is applied on restart",
-            ),
-            ("Set(update: 1, shatter_threshold: -1)", "events[0].shatter_threshold"),
-            ("Set(update: 1, threshold: 1)", "unknown field `threshold`"),
-            ("Set(update: 1)", "at least one live setting"),
-        ] {
-            let e = parse(events).unwrap_err();
-            assert!(e.contains(needle) && e.starts_with("e.ron:"), "{events}: {e}");
-            assert_eq!(e.lines().count(), 1, "{e}");
-        }
-    }
-
-    #[test]
-    fn a_set_writes_what_it_reads() {
-        let text = "Set(update: 9, shatter_fragments: 12, gravity: Tree(theta: 0.5))";
-        let events = parse(text).unwrap();
-        let written = ron::ser::to_string_pretty(
-            &events,
-            ron::ser::PrettyConfig::new()
-                .struct_names(true)
-                .extensions(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES),
-        )
-        .unwrap();
-        let again: Vec<Event> = ron::from_str(&written).unwrap_or_else(|e| panic!("{e}\n{written}"));
-        assert_eq!(again, events, "{written}");
     }
 }

@@ -160,6 +160,6 @@ pub fn from<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f32; 3]>, D::Erro
 /// A `Breakup`'s `sizes` where given: by the rule of the setting
 /// `fragment_sizes`.
 pub fn sizes<'de, D: Deserializer<'de>>(d: D) -> Result<Option<FragmentSizes>, D::Error> {
-    let rule = crate::resources::setting("fragment_sizes").map_or("", |s| s.rule);
-    FragmentSizes::read_checked(d, "sizes", rule, FragmentSizes::is_valid).map(Some)
+    let rule = &crate::resources::rules::FRAGMENT_SIZES;
+    FragmentSizes::read_checked(d, "sizes", rule.rule, rule.ok).map(Some)
 }

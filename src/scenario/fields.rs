@@ -1,9 +1,9 @@
 //! A scenario file's top-level fields, read and written: its own (`name`,
-//! `next_id`, `bodies`, `generators`, `events`) and every physics setting of the
-//! settings list, by the list's names and rules. Written by hand rather
-//! than derived because serde cannot flatten the list's struct into one
-//! that denies unknown fields, and denying them is what turns a misspelled
-//! field into an error.
+//! `next_id`, `bodies`, `generators`, `events`) and every physics setting,
+//! by its name in files and its rule ([`crate::resources::rules`]). Written
+//! by hand rather than derived because RON cannot flatten the settings'
+//! struct into one that denies unknown fields, and denying them is what
+//! turns a misspelled field into an error.
 
 use std::fmt;
 
@@ -15,7 +15,7 @@ use super::contents::Scenario;
 use super::field_checks;
 use super::listed::Listed;
 use crate::input::FieldName;
-use crate::resources::{SETTINGS, unknown_setting};
+use crate::resources::{settings, unknown_setting};
 
 /// The scenario's own fields, in file order (the settings come after
 /// `name`).
@@ -69,7 +69,7 @@ impl<'de> Deserialize<'de> for Scenario {
 
 impl Serialize for Scenario {
     fn serialize<S: Serializer>(&self, out: S) -> Result<S::Ok, S::Error> {
-        let mut s = out.serialize_struct("Scenario", OWN.len() + SETTINGS.len())?;
+        let mut s = out.serialize_struct("Scenario", OWN.len() + settings().len())?;
         s.serialize_field("name", &self.name)?;
         self.physics.serialize_fields(&mut s)?;
         if let Some(next_id) = self.next_id {

@@ -13,7 +13,7 @@
 use crate::components::{BodyId, BodyState, GravityRole, Mass, Position, PreviousPosition, Velocity};
 use crate::execution::{Execution, ExecutionMode};
 use crate::physics::Aabb;
-use crate::resources::SimulationSettings;
+use crate::resources::{SimulationSettings, Stages};
 use crate::systems::{
     Drift, PullScratch, Roles, SortedBoxes, collect_sources, first_non_finite, gravity_kernel, integrate_kernel,
     prepare_pull, sweep_and_prune,
@@ -88,7 +88,10 @@ fn first_update_stays_finite(
     });
     // The gravity stage runs whatever its switch: a scenario's file has none.
     let drift = Drift::of(&SimulationSettings {
-        gravity: true,
+        stages: Stages {
+            gravity: true,
+            ..settings.stages
+        },
         ..settings.clone()
     });
     if integrate_kernel((&velocities, &mut positions, &mut previous), dt, drift) {

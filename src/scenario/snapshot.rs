@@ -234,7 +234,7 @@ mod tests {
         };
         assert_eq!(settings.problems(), []);
         let defaults = SimulationSettings::DEFAULT;
-        for s in crate::resources::SETTINGS {
+        for s in crate::resources::settings() {
             assert_ne!(
                 settings.shown(s.key),
                 defaults.shown(s.key),

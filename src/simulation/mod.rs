@@ -18,8 +18,8 @@ use crate::record::StateHash;
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{Event, Scenario};
 use crate::systems::{
-    Absorbed, CollisionStats, SimulationFault, SimulationPlugins, SortedBoxes, StageTimings, first_non_finite,
-    run_due_events, run_updates,
+    Absorbed, CollisionStats, SimulationFault, SimulationPlugins, SortedBoxes, StageTimings, UpdateCount,
+    first_non_finite, run_due_events, run_updates,
 };
 use crate::timed_events::{EventLog, EventQueue, EventsPlugin, Pending, install_events, record_event};
 
@@ -117,7 +117,7 @@ impl Simulation {
 
     /// Updates run so far.
     pub fn updates(&self) -> u64 {
-        self.app.world().resource::<SimulationFault>().updates
+        self.app.world().resource::<UpdateCount>().0
     }
 
     /// What the events did so far.
@@ -177,7 +177,10 @@ impl Simulation {
         let world = self.app.world_mut();
         let found = first_non_finite(world.query::<(&BodyId, &Position, &Velocity)>().iter(world));
         if let Some(found) = found {
-            world.resource_mut::<SimulationFault>().stop(found);
+            let update = world.resource::<UpdateCount>().0;
+            let mut fault = world.resource_mut::<SimulationFault>();
+            fault.stop(found);
+            fault.date(update);
         }
         self.fault()
     }
@@ -336,11 +339,7 @@ mod tests {
             );
             assert!(fault.ends_with("the simulation stopped"), "{fault}");
             let world = sim.app_mut().world();
-            assert_eq!(
-                world.resource::<SimulationFault>().updates,
-                4,
-                "no update after the fault"
-            );
+            assert_eq!(world.resource::<UpdateCount>().0, 4, "no update after the fault");
             let state = sim.snapshot();
             assert!(
                 crate::record::write_csv(&state, Vec::new()).is_err(),
@@ -605,14 +604,14 @@ mod tests {
     #[test]
     fn every_physics_setting_changes_the_run() {
         let keys: Vec<&str> = EFFECTS.iter().map(|e| e.key).collect();
-        let listed: Vec<&str> = crate::resources::SETTINGS.iter().map(|s| s.key).collect();
+        let listed: Vec<&str> = crate::resources::settings().iter().map(|s| s.key).collect();
         assert_eq!(keys, listed, "one row a setting of the list, in its order");
         for effect in EFFECTS {
             let default = format!("Scenario({})", effect.scene);
             let changed = format!("Scenario({}: {}, {})", effect.key, effect.changed, effect.scene);
             // The file sets this setting and no other.
             let settings = Scenario::parse(&changed, "t").unwrap().settings();
-            for s in crate::resources::SETTINGS {
+            for s in crate::resources::settings() {
                 let differs = settings.shown(s.key) != SimulationSettings::DEFAULT.shown(s.key);
                 assert_eq!(differs, s.key == effect.key, "{}: sets {}", effect.key, s.key);
             }

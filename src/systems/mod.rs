@@ -28,7 +28,7 @@ pub use integrate::{Drift, IntegrateColumns, IntegratePlugin, integrate_kernel};
 pub use pipeline::{
     BetweenUpdates, Fault, MIN_PAIR_LIMIT, NextEventAt, PAIRS_PER_BOX, STAGE_COUNT, STAGES, SchedulePlugin,
     SimulationFault, SimulationSystems, SimulationUpdate, Stage, StageClock, StageInfo, StageTimings, Timing,
-    TooManyPairs, first_non_finite, no_fault, pair_limit, run_due_events, run_updates,
+    TooManyPairs, UpdateCount, first_non_finite, no_fault, pair_limit, run_due_events, run_updates,
 };
 pub use response::{
     Absorbed, CollisionStats, ContactBody, Matched, Meeting, Motion, Outcome, ResponsePlugin, apart_axes,

@@ -6,7 +6,7 @@ use bevy::prelude::*;
 use super::apply::apply;
 use crate::components::BodyState;
 use crate::scenario::{Event, Generator, Scenario};
-use crate::systems::{NextEventAt, SimulationFault};
+use crate::systems::{NextEventAt, UpdateCount};
 
 /// One event of the run.
 #[derive(Clone, Debug, PartialEq)]
@@ -188,7 +188,7 @@ impl EventQueue {
 /// [`BetweenUpdates`](crate::systems::BetweenUpdates); counts those
 /// skipped and keeps the first, with why, for the summary to name once.
 pub fn apply_due_events(world: &mut World) {
-    let updates = world.resource::<SimulationFault>().updates;
+    let updates = world.resource::<UpdateCount>().0;
     let around = world.resource::<EventQueue>().around.clone();
     loop {
         let queue = world.resource::<EventQueue>();

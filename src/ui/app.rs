@@ -43,7 +43,7 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
     // error and no log of a window that never opens.
     let actions = options.actions.as_deref().map(ActionScript::load).transpose()?;
     let execution = settings
-        .execution()
+        .execution
         .build(crate::calibration::machine_auto_split())?
         .with_keep_warm(KEEP_WORKERS_WARM)
         .leave_threads(THREADS_FOR_THE_DRAWING);

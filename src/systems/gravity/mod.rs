@@ -63,7 +63,7 @@ impl Plugin for GravityPlugin {
             SimulationUpdate,
             apply_gravity
                 .in_set(SimulationSystems::Gravity)
-                .run_if(|s: Res<SimulationSettings>| s.gravity),
+                .run_if(|s: Res<SimulationSettings>| s.stages.gravity),
         );
     }
 }

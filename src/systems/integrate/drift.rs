@@ -23,7 +23,7 @@ pub enum Drift {
 impl Drift {
     /// The drift the integrate stage makes under `settings`.
     pub fn of(settings: &SimulationSettings) -> Self {
-        if settings.gravity && settings.integrator == Integrator::Leapfrog {
+        if settings.stages.gravity && settings.integrator == Integrator::Leapfrog {
             Self::SecondHalf
         } else {
             Self::Whole
@@ -95,7 +95,10 @@ mod tests {
         let drift = |integrator, gravity| {
             Drift::of(&SimulationSettings {
                 integrator,
-                gravity,
+                stages: crate::resources::Stages {
+                    gravity,
+                    ..crate::resources::Stages::ALL
+                },
                 ..SimulationSettings::DEFAULT
             })
         };

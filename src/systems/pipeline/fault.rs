@@ -50,29 +50,36 @@ pub enum Fault {
 /// The run's fault, if any, and the update it happened in.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
 pub struct SimulationFault {
-    /// Updates started so far (counted by
-    /// [`run_updates`](super::run_updates)).
-    pub updates: u64,
     /// What stopped the run, in update `stopped_at`.
     pub fault: Option<Fault>,
-    /// The update the fault happened in.
-    pub stopped_at: u64,
+    /// The update the fault happened in: dated by
+    /// [`run_updates`](super::run_updates) as that update ends (a stage
+    /// that stops the run does not know its number).
+    pub stopped_at: Option<u64>,
 }
 
 impl SimulationFault {
-    /// Records `fault` in the current update, unless an earlier one is
-    /// recorded.
+    /// Records `fault`, unless an earlier one is recorded.
     pub fn stop(&mut self, fault: Fault) {
         if self.fault.is_none() {
             self.fault = Some(fault);
-            self.stopped_at = self.updates;
+        }
+    }
+
+    /// Dates a fault recorded and not yet dated: it happened in update
+    /// `update`.
+    pub fn date(&mut self, update: u64) {
+        if self.fault.is_some() && self.stopped_at.is_none() {
+            self.stopped_at = Some(update);
         }
     }
 
     /// The fault as one line naming the update, if there is one.
     pub fn message(&self) -> Option<String> {
-        self.fault
-            .map(|fault| format!("update {}: {fault}; the simulation stopped", self.stopped_at))
+        self.fault.map(|fault| match self.stopped_at {
+            Some(update) => format!("update {update}: {fault}; the simulation stopped"),
+            None => format!("{fault}; the simulation stopped"),
+        })
     }
 
     /// Forgets the fault (a new scene starts).
@@ -131,13 +138,11 @@ mod tests {
         ));
         assert_eq!(first_non_finite(bodies().skip(1).take(1)), None);
 
-        let mut state = SimulationFault {
-            updates: 12,
-            ..default()
-        };
+        let mut state = SimulationFault::default();
         state.stop(fault);
-        state.updates = 13;
+        state.date(12);
         state.stop(first_non_finite(bodies().take(1)).unwrap());
+        state.date(13);
         let message = state.message().unwrap();
         assert!(
             message.starts_with("update 12: body 5 has a non-finite velocity (0, NaN, 0)"),

@@ -1,8 +1,8 @@
 //! What every stage runs in: the stage list ([`STAGES`]: order, names,
 //! colors, CSV columns), the [`SimulationUpdate`] schedule chained from it,
 //! the [`Stage`] parameter each stage times itself with and gets its
-//! execution from, the timings, and the run's [`SimulationFault`] with the
-//! limits that raise it.
+//! execution from, the timings, the [`UpdateCount`], and the run's
+//! [`SimulationFault`] with the limits that raise it.
 
 mod fault;
 mod pair_limit;
@@ -10,6 +10,7 @@ mod schedule;
 mod stage_clock;
 mod stages;
 mod timings;
+mod update_count;
 
 pub use fault::{Fault, SimulationFault, first_non_finite, no_fault};
 pub use pair_limit::{MIN_PAIR_LIMIT, PAIRS_PER_BOX, TooManyPairs, pair_limit};
@@ -17,3 +18,4 @@ pub use schedule::{BetweenUpdates, NextEventAt, SchedulePlugin, SimulationUpdate
 pub use stage_clock::{Stage, StageClock};
 pub use stages::{STAGE_COUNT, STAGES, SimulationSystems, StageInfo};
 pub use timings::{StageTimings, Timing};
+pub use update_count::UpdateCount;

@@ -6,7 +6,7 @@ use std::time::Instant;
 use bevy::ecs::schedule::{LogLevel, ScheduleBuildSettings, ScheduleLabel, SingleThreadedExecutor};
 use bevy::prelude::*;
 
-use super::{SimulationFault, SimulationSystems, StageTimings, no_fault};
+use super::{SimulationFault, SimulationSystems, StageTimings, UpdateCount, no_fault};
 use crate::execution::Execution;
 use crate::resources::{NextBodyId, SimulationSettings};
 
@@ -63,6 +63,7 @@ impl Plugin for SchedulePlugin {
             .add_schedule(between)
             .init_resource::<NextEventAt>()
             .init_resource::<SimulationFault>()
+            .init_resource::<UpdateCount>()
             .init_resource::<SimulationSettings>()
             .init_resource::<StageTimings>()
             .init_resource::<NextBodyId>();
@@ -73,7 +74,7 @@ impl Plugin for SchedulePlugin {
 /// updates run so far. The window calls it when a tool records an event,
 /// so that the event shows before the next update.
 pub fn run_due_events(world: &mut World) {
-    if world.resource::<SimulationFault>().updates >= world.resource::<NextEventAt>().0 {
+    if world.resource::<UpdateCount>().0 >= world.resource::<NextEventAt>().0 {
         world.run_schedule(BetweenUpdates);
     }
 }
@@ -91,11 +92,12 @@ pub fn run_updates(world: &mut World, updates: u64) {
             if world.resource::<SimulationFault>().fault.is_some() {
                 return;
             }
-            let mut fault = world.resource_mut::<SimulationFault>();
-            fault.updates += 1;
+            world.resource_mut::<UpdateCount>().0 += 1;
             let start = Instant::now();
             world.run_schedule(SimulationUpdate);
             world.resource_mut::<StageTimings>().update.record(start.elapsed());
+            let update = world.resource::<UpdateCount>().0;
+            world.resource_mut::<SimulationFault>().date(update);
             if world.resource::<SimulationFault>().fault.is_none() {
                 run_due_events(world);
             }

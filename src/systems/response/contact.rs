@@ -67,6 +67,18 @@ pub enum Outcome {
     Separate(Option<Motion>, Option<Motion>),
 }
 
+impl Outcome {
+    /// The same outcome with the two bodies' parts swapped: the response
+    /// of a pair written `(b, a)` as that of `(a, b)`.
+    pub fn swapped(self) -> Self {
+        match self {
+            Self::Bounce(a, b) => Self::Bounce(b, a),
+            Self::Separate(a, b) => Self::Separate(b, a),
+            other => other,
+        }
+    }
+}
+
 /// Axes on which the boxes were apart at their previous positions
 /// (touching counts as apart).
 pub fn apart_axes(a: &ContactBody, b: &ContactBody) -> [bool; 3] {
@@ -93,6 +105,36 @@ pub fn elastic(m1: f64, v1: f64, m2: f64, v2: f64) -> (f64, f64) {
     )
 }
 
+/// Whether a pair that collides shatters: both interact and the impact
+/// speed `|v1 − v2|` reaches `threshold`.
+pub fn shatters(a: &ContactBody, b: &ContactBody, threshold: f32) -> bool {
+    a.interacts && b.interacts && (a.velocity - b.velocity).length() >= threshold
+}
+
+/// The bounce's new velocities: on each of `axes`, the 1-D elastic law
+/// between two interacting bodies, or a reflection off the one that does
+/// not interact (relative to its own motion, which stays); the other axes
+/// keep their velocities.
+pub fn bounce_on_axes(a: &ContactBody, b: &ContactBody, axes: [bool; 3]) -> (DVec3, DVec3) {
+    let (va, vb) = (a.velocity.as_dvec3(), b.velocity.as_dvec3());
+    let (mut ua, mut ub) = (va, vb);
+    for k in (0..3).filter(|&k| axes[k]) {
+        (ua[k], ub[k]) = match (a.interacts, b.interacts) {
+            (true, true) => elastic(f64::from(a.mass), va[k], f64::from(b.mass), vb[k]),
+            (true, false) => (2.0 * vb[k] - va[k], vb[k]),
+            (false, _) => (va[k], 2.0 * va[k] - vb[k]),
+        };
+    }
+    (ua, ub)
+}
+
+/// The point of a box (center `center`, half extents `half`) nearest to
+/// `point`, and its distance from it.
+pub fn nearest_on_box(center: DVec3, half: DVec3, point: DVec3) -> (DVec3, f64) {
+    let nearest = center + (point - center).clamp(-half, half);
+    (nearest, nearest.distance(point))
+}
+
 /// Kernel: the response to one overlapping pair. `threshold` is the impact
 /// speed `|v1 − v2|` from which interacting bodies shatter; `dt` the time step.
 pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Outcome {
@@ -104,11 +146,7 @@ pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Out
         return respond_to_ball(a, b);
     }
     if a.spherical {
-        return match respond_to_ball(b, a) {
-            Outcome::Bounce(mb, ma) => Outcome::Bounce(ma, mb),
-            Outcome::Separate(mb, ma) => Outcome::Separate(ma, mb),
-            other => other,
-        };
+        return respond_to_ball(b, a).swapped();
     }
     let (pa, pb) = (a.position.as_dvec3(), b.position.as_dvec3());
     let (va, vb) = (a.velocity.as_dvec3(), b.velocity.as_dvec3());
@@ -122,19 +160,10 @@ pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Out
     if !axes.contains(&true) {
         return Outcome::Ignore;
     }
-    if a.interacts && b.interacts && (a.velocity - b.velocity).length() >= threshold {
+    if shatters(a, b, threshold) {
         return Outcome::Shatter;
     }
-    // New velocities on the collision axes.
-    let (mut ua, mut ub) = (va, vb);
-    for k in (0..3).filter(|&k| axes[k]) {
-        (ua[k], ub[k]) = match (a.interacts, b.interacts) {
-            (true, true) => elastic(f64::from(a.mass), va[k], f64::from(b.mass), vb[k]),
-            // Reflection off the wall, relative to the wall's own motion.
-            (true, false) => (2.0 * vb[k] - va[k], vb[k]),
-            (false, _) => (va[k], 2.0 * va[k] - vb[k]),
-        };
-    }
+    let (ua, ub) = bounce_on_axes(a, b, axes);
     // Time since first contact: the boxes touched once the last collision
     // axis closed. Rewinding by `s` moves the offset `pa − pb` by
     // `−(va − vb)·s`; on axis k it leaves the overlap, on the side the
@@ -172,10 +201,11 @@ pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Out
 
 /// The box's point nearest the ball's center, and its distance from it.
 fn nearest_to_center(cube: &ContactBody, ball: &ContactBody) -> (DVec3, f64) {
-    let (p, center) = (cube.position.as_dvec3(), ball.position.as_dvec3());
-    let half = cube.half_extents.as_dvec3();
-    let nearest = p + (center - p).clamp(-half, half);
-    (nearest, nearest.distance(center))
+    nearest_on_box(
+        cube.position.as_dvec3(),
+        cube.half_extents.as_dvec3(),
+        ball.position.as_dvec3(),
+    )
 }
 
 /// Whether two bodies whose bounding boxes overlap touch: boxes always,

@@ -56,17 +56,42 @@ pub(super) fn find_reentries(
         let (Some(a), Some(b)) = (body_state(bodies, entities[0]), body_state(bodies, entities[1])) else {
             continue;
         };
-        if !(a.absorbs || b.absorbs) || !touches(&(&a).into(), &(&b).into()) {
-            continue;
-        }
-        for (k, absorber) in [(1, a), (0, b)] {
-            let other = if k == 0 { a } else { b };
-            if absorber.absorbs && other.interacts && busy.insert(entities[k]) {
-                absorbed.push((entities[k], other));
-            }
+        if (a.absorbs || b.absorbs) && touches(&(&a).into(), &(&b).into()) {
+            absorb(entities, [a, b], busy, &mut absorbed);
         }
     }
     absorbed
+}
+
+/// A pair with an absorber that touches: its interacting body not yet
+/// busy is absorbed (pushed onto `absorbed` with its state) and busy.
+fn absorb(
+    entities: [Entity; 2],
+    [a, b]: [BodyState; 2],
+    busy: &mut HashSet<Entity>,
+    absorbed: &mut Vec<(Entity, BodyState)>,
+) {
+    for (k, absorber) in [(1, a), (0, b)] {
+        let other = if k == 0 { a } else { b };
+        if absorber.absorbs && other.interacts && busy.insert(entities[k]) {
+            absorbed.push((entities[k], other));
+        }
+    }
+}
+
+/// Takes a pair for a response unless one of its interacting bodies is
+/// busy already; its interacting bodies are busy then (non-interacting
+/// ones never are). Whether it was taken.
+fn take_pair(entities: [Entity; 2], states: &[BodyState; 2], busy: &mut HashSet<Entity>) -> bool {
+    if (0..2).any(|k| states[k].interacts && busy.contains(&entities[k])) {
+        return false;
+    }
+    for (entity, state) in entities.iter().zip(states) {
+        if state.interacts {
+            busy.insert(*entity);
+        }
+    }
+    true
 }
 
 /// The greedy matching: pairs in sorted order, each interacting body in at
@@ -80,14 +105,8 @@ pub(super) fn match_pairs(pairs: &[Pair], bodies: &ContactQuery, busy: &mut Hash
             continue;
         };
         let states = [a, b];
-        let taken = |k: usize| states[k].interacts && busy.contains(&entities[k]);
-        if (!a.interacts && !b.interacts) || a.absorbs || b.absorbs || taken(0) || taken(1) {
+        if (!a.interacts && !b.interacts) || a.absorbs || b.absorbs || !take_pair(entities, &states, busy) {
             continue;
-        }
-        for (entity, state) in entities.iter().zip(&states) {
-            if state.interacts {
-                busy.insert(*entity);
-            }
         }
         matched.push((entities, states));
     }
@@ -137,24 +156,13 @@ pub(super) fn swept_matching(
     for (_, index, meeting) in order {
         let (entities, [a, b]) = candidates[index];
         if a.absorbs || b.absorbs {
-            for (k, absorber) in [(1, a), (0, b)] {
-                let other = if k == 0 { a } else { b };
-                if absorber.absorbs && other.interacts && busy.insert(entities[k]) {
-                    absorbed.push((entities[k], other));
-                }
-            }
+            absorb(entities, [a, b], busy, &mut absorbed);
             continue;
         }
-        let states = [a, b];
-        if (0..2).any(|k| states[k].interacts && busy.contains(&entities[k])) {
+        if !take_pair(entities, &[a, b], busy) {
             continue;
         }
-        for (entity, state) in entities.iter().zip(&states) {
-            if state.interacts {
-                busy.insert(*entity);
-            }
-        }
-        matched.push((entities, states));
+        matched.push((entities, [a, b]));
         met.push(meeting);
     }
     (absorbed, matched, met)

@@ -105,7 +105,7 @@ fn respond_to_pairs(
     let clock = stage.start(SimulationSystems::Response);
     pending.0.clear();
     reentering.0.clear();
-    if !(settings.collisions && settings.collision_response) {
+    if !(settings.stages.collisions && settings.stages.collision_response) {
         *stats = CollisionStats {
             shatters_total: stats.shatters_total,
             refused_total: stats.refused_total,

@@ -7,7 +7,7 @@
 use bevy::math::DVec3;
 use bevy::prelude::*;
 
-use super::contact::{ContactBody, Motion, Outcome, apart_axes, elastic, respond};
+use super::contact::{ContactBody, Motion, Outcome, apart_axes, bounce_on_axes, nearest_on_box, respond, shatters};
 
 /// When a pair meets during the update.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -154,10 +154,9 @@ fn ball_meets(cube: &ContactBody, ball: &ContactBody) -> Option<Meeting> {
 /// At share `s` of the update: the box's point nearest the ball's center,
 /// its distance from it, and the ball's center.
 fn nearest_point(cube: &ContactBody, ball: &ContactBody, s: f64) -> (DVec3, f64, DVec3) {
-    let (p, center) = (at(cube, s), at(ball, s));
-    let half = cube.half_extents.as_dvec3();
-    let nearest = p + (center - p).clamp(-half, half);
-    (nearest, nearest.distance(center), center)
+    let center = at(ball, s);
+    let (nearest, distance) = nearest_on_box(at(cube, s), cube.half_extents.as_dvec3(), center);
+    (nearest, distance, center)
 }
 
 /// Kernel: the response to a pair that met at `meeting` (from
@@ -178,10 +177,7 @@ pub fn respond_swept(a: &ContactBody, b: &ContactBody, meeting: Meeting, thresho
         return bounce_off_ball(a, b, s, rest);
     }
     if a.spherical {
-        return match bounce_off_ball(b, a, s, rest) {
-            Outcome::Bounce(mb, ma) => Outcome::Bounce(ma, mb),
-            other => other,
-        };
+        return bounce_off_ball(b, a, s, rest).swapped();
     }
     let (va, vb) = (a.velocity.as_dvec3(), b.velocity.as_dvec3());
     let offset = a.previous.as_dvec3() - b.previous.as_dvec3();
@@ -192,17 +188,10 @@ pub fn respond_swept(a: &ContactBody, b: &ContactBody, meeting: Meeting, thresho
     if !closing.contains(&true) {
         return Outcome::Ignore;
     }
-    if a.interacts && b.interacts && (a.velocity - b.velocity).length() >= threshold {
+    if shatters(a, b, threshold) {
         return Outcome::Shatter;
     }
-    let (mut ua, mut ub) = (va, vb);
-    for k in (0..3).filter(|&k| closing[k]) {
-        (ua[k], ub[k]) = match (a.interacts, b.interacts) {
-            (true, true) => elastic(f64::from(a.mass), va[k], f64::from(b.mass), vb[k]),
-            (true, false) => (2.0 * vb[k] - va[k], vb[k]),
-            (false, _) => (va[k], 2.0 * va[k] - vb[k]),
-        };
-    }
+    let (ua, ub) = bounce_on_axes(a, b, closing);
     let motion = |body: &ContactBody, u: DVec3| Motion {
         position: (at(body, s) + u * rest).as_vec3(),
         velocity: u.as_vec3(),

@@ -58,7 +58,7 @@ impl Plugin for SortPlugin {
 }
 
 fn sort(settings: Res<SimulationSettings>, mut stage: Stage, mut sorted: ResMut<SortedBoxes>, bodies: BroadPhaseQuery) {
-    if !settings.collisions {
+    if !settings.stages.collisions {
         sorted.clear();
         return;
     }

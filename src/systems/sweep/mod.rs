@@ -59,7 +59,7 @@ fn sweep(
     mut fault: ResMut<SimulationFault>,
 ) {
     pairs.0.clear();
-    if !settings.collisions {
+    if !settings.stages.collisions {
         return;
     }
     let clock = stage.start(SimulationSystems::Sweep);

@@ -7,7 +7,7 @@ use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use super::cascade::{Cascade, curve_plot};
 use crate::components::BodyId;
 use crate::resources::GravityMethod;
-use crate::systems::{CollisionStats, GravityInUse, STAGES, SimulationFault, StageTimings, Timing};
+use crate::systems::{CollisionStats, GravityInUse, STAGES, StageTimings, Timing, UpdateCount};
 use crate::ui::measure::{FrameStats, HISTORY};
 use crate::ui::session::SandboxSettings;
 use crate::ui::session::SandboxState;
@@ -43,7 +43,7 @@ fn hud(
     cascade: Res<Cascade>,
     gravity: Res<GravityInUse>,
     bodies: Query<(), With<BodyId>>,
-    fault: Res<SimulationFault>,
+    updates: Res<UpdateCount>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     egui::Window::new("HUD")
@@ -56,7 +56,7 @@ fn hud(
             let achieved = clock.achieved_ups();
             let status = if state.paused { " — paused" } else { "" };
             ui.label(format!("UPS {achieved:.0} of {target:.0}{status}"));
-            ui.label(format!("update {}", fault.updates));
+            ui.label(format!("update {}", updates.0));
             let dropped = clock.dropped_per_second();
             if dropped > 0.5 {
                 ui.colored_label(
@@ -81,7 +81,7 @@ fn hud(
                     collisions.refused_shatters, collisions.refused_total
                 ));
             }
-            ui.label(if settings.gravity {
+            ui.label(if settings.physics.stages.gravity {
                 gravity_line(&gravity)
             } else {
                 "gravity: off".to_owned()

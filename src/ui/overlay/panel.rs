@@ -10,10 +10,13 @@ use super::cascade::{Cascade, totals_readout};
 use super::widgets::{drag_value, slider};
 use crate::components::{BodyId, GravityRole, Mass, Position, Velocity};
 use crate::execution::{Execution, ExecutionMode, FALLBACK_SPLIT_FROM, SplitPolicy, WorkerPool};
+use crate::input::ExecutionOptions;
 use crate::maths::Rng;
 use crate::resources::DrawMethod;
-use crate::resources::{AUTO_TREE_FROM, CollisionDetection, DEFAULT_THETA, FragmentSizes, GravityMethod, Integrator};
-use crate::systems::SimulationFault;
+use crate::resources::{
+    AUTO_TREE_FROM, CollisionDetection, DEFAULT_THETA, FragmentSizes, GravityMethod, Integrator, SimulationSettings,
+};
+use crate::systems::UpdateCount;
 use crate::ui::session::SandboxState;
 use crate::ui::session::SnapshotSave;
 use crate::ui::session::{
@@ -67,11 +70,11 @@ fn panel(
     mut save: ResMut<SnapshotSave>,
     mut save_field: Local<SaveField>,
     cascade: Res<Cascade>,
-    (mut tool_settings, mut actions, checkpoints, fault): (
+    (mut tool_settings, mut actions, checkpoints, updates): (
         ResMut<ToolSettings>,
         MessageWriter<ToolAction>,
         Res<Checkpoints>,
-        Res<SimulationFault>,
+        Res<UpdateCount>,
     ),
     running: Res<Execution>,
     mut session_field: Local<SessionField>,
@@ -107,12 +110,12 @@ fn panel(
                 ui.separator();
                 execution(ui, &mut edited, &running);
                 ui.separator();
-                physics(ui, &mut edited);
+                physics(ui, &mut edited.physics);
                 totals_readout(ui, &cascade.totals, &cascade.absorbed);
                 ui.separator();
                 let mut tools = tool_settings.clone();
                 let has_selection = selection.entity.is_some();
-                let sent = tools_section(ui, &mut tools, has_selection, &checkpoints, fault.updates);
+                let sent = tools_section(ui, &mut tools, has_selection, &checkpoints, updates.0);
                 if let Some(problem) = &state.tool_problem {
                     ui.colored_label(egui::Color32::from_rgb(255, 200, 90), problem);
                 }
@@ -172,41 +175,52 @@ fn run_controls(ui: &mut egui::Ui, settings: &mut SandboxSettings, state: &mut S
 /// step runs on no more threads than the machine has).
 fn execution(ui: &mut egui::Ui, settings: &mut SandboxSettings, running: &Execution) {
     ui.label("Execution");
+    let options = &mut settings.execution;
+    let (mut mode, mut threads, mut split, mut pool) =
+        (options.mode(), options.threads(), options.split(), options.pool());
     ui.horizontal(|ui| {
-        ui.radio_value(&mut settings.mode, ExecutionMode::Sequential, "sequential");
-        ui.radio_value(&mut settings.mode, ExecutionMode::Parallel, "parallel");
+        ui.radio_value(&mut mode, ExecutionMode::Sequential, "sequential");
+        ui.radio_value(&mut mode, ExecutionMode::Parallel, "parallel");
     });
-    let parallel = settings.mode == ExecutionMode::Parallel;
-    ui.add_enabled(
-        parallel,
-        slider(&mut settings.threads, 1..=max_threads()).text("threads"),
-    );
-    if let Some(note) = fewer_threads_note(settings, running) {
+    let parallel = mode == ExecutionMode::Parallel;
+    ui.add_enabled(parallel, slider(&mut threads, 1..=max_threads()).text("threads"));
+    if let Some(note) = fewer_threads_note(options, running) {
         ui.label(note)
             .on_hover_text("a step runs on no more threads than the hardware threads left to it");
     }
-    ui.add_enabled_ui(parallel, |ui| split_policy(ui, &mut settings.split));
+    ui.add_enabled_ui(parallel, |ui| split_policy(ui, &mut split));
     ui.add_enabled_ui(parallel, |ui| {
         ui.horizontal(|ui| {
             ui.label("pool")
                 .on_hover_text("which worker pool runs the split work: the same results, another cost per dispatch");
-            ui.radio_value(&mut settings.pool, WorkerPool::Kessler, "Kessler's")
+            ui.radio_value(&mut pool, WorkerPool::Kessler, "Kessler's")
                 .on_hover_text("its own: exactly `threads` workers, kept polling between the steps of an update");
-            ui.radio_value(&mut settings.pool, WorkerPool::Bevy, "Bevy's")
+            ui.radio_value(&mut pool, WorkerPool::Bevy, "Bevy's")
                 .on_hover_text("Bevy's ComputeTaskPool, shared with the app; its threads are fixed at start");
         });
     });
+    let chosen = ExecutionOptions {
+        mode: Some(mode),
+        threads: Some(threads),
+        split: Some(split),
+        pool: Some(pool),
+    };
+    // Written only where changed: the resource is then changed only by a
+    // choice.
+    if chosen != *options {
+        *options = chosen;
+    }
 }
 
 /// What the panel says where parallel steps on Kessler's pool run on fewer
-/// threads than `settings` ask for (and `running` has applied them).
-fn fewer_threads_note(settings: &SandboxSettings, running: &Execution) -> Option<String> {
-    let applied = settings.mode == ExecutionMode::Parallel
-        && settings.pool == WorkerPool::Kessler
+/// threads than `options` ask for (and `running` has applied them).
+fn fewer_threads_note(options: &ExecutionOptions, running: &Execution) -> Option<String> {
+    let applied = options.mode() == ExecutionMode::Parallel
+        && options.pool() == WorkerPool::Kessler
         && running.pool() == WorkerPool::Kessler
-        && running.threads() == settings.threads;
+        && running.threads() == options.threads();
     let on = running.step_threads();
-    (applied && on < settings.threads).then(|| format!("steps run on {on} of them: the cores beside the drawing"))
+    (applied && on < options.threads()).then(|| format!("steps run on {on} of them: the cores beside the drawing"))
 }
 
 /// The split policy: auto (this machine's calibration), always, or from a
@@ -234,9 +248,9 @@ fn split_policy(ui: &mut egui::Ui, split: &mut SplitPolicy) {
     });
 }
 
-fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
+fn physics(ui: &mut egui::Ui, settings: &mut SimulationSettings) {
     ui.label("Stages");
-    ui.checkbox(&mut settings.gravity, "gravity");
+    ui.checkbox(&mut settings.stages.gravity, "gravity");
     gravity_method(ui, settings);
     ui.horizontal(|ui| {
         ui.label("integrator");
@@ -249,8 +263,8 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         )
         .on_hover_text("the thesis: kick, then drift; first order, orbits swing by a few % of their radius");
     });
-    ui.checkbox(&mut settings.collisions, "collision detection");
-    ui.add_enabled_ui(settings.collisions, |ui| {
+    ui.checkbox(&mut settings.stages.collisions, "collision detection");
+    ui.add_enabled_ui(settings.stages.collisions, |ui| {
         ui.horizontal(|ui| {
             ui.radio_value(&mut settings.collision_detection, CollisionDetection::Swept, "swept")
                 .on_hover_text("along each body's path over the update: fast bodies cannot pass through one another");
@@ -263,8 +277,11 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
         });
     });
     ui.add_enabled(
-        settings.collisions,
-        egui::Checkbox::new(&mut settings.collision_response, "collision response (bounce, shatter)"),
+        settings.stages.collisions,
+        egui::Checkbox::new(
+            &mut settings.stages.collision_response,
+            "collision response (bounce, shatter)",
+        ),
     );
     ui.add(slider(&mut settings.shatter_fragments, 2..=20).text("shatter fragments"));
     fragment_sizes(ui, settings);
@@ -290,7 +307,7 @@ fn physics(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
 }
 
 /// How gravity is summed: auto, direct, or the tree and its θ.
-fn gravity_method(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
+fn gravity_method(ui: &mut egui::Ui, settings: &mut SimulationSettings) {
     ui.horizontal(|ui| {
         let method = settings.gravity_method;
         if ui
@@ -322,7 +339,7 @@ fn gravity_method(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
 }
 
 /// How a shatter sizes its fragments: equal, or the power law and its α.
-fn fragment_sizes(ui: &mut egui::Ui, settings: &mut SandboxSettings) {
+fn fragment_sizes(ui: &mut egui::Ui, settings: &mut SimulationSettings) {
     ui.horizontal(|ui| {
         ui.label("sizes");
         let sizes = settings.fragment_sizes;
@@ -366,9 +383,9 @@ fn scene(
     });
     ui.horizontal(|ui| {
         ui.label("seed");
-        ui.add(egui::DragValue::new(&mut settings.seed));
+        ui.add(egui::DragValue::new(&mut settings.physics.seed));
         if ui.button("🎲 randomize").clicked() {
-            settings.seed = random_seed();
+            settings.physics.seed = random_seed();
         }
     });
     scenario_picker(ui, settings, path_field, files);
@@ -683,15 +700,15 @@ mod tests {
     fn an_idle_panel_changes_no_setting_even_beyond_its_widgets_ranges() {
         // Allowed values the widgets do not reach (see `widgets.rs`); a
         // change here would be saved as if the user had made it.
-        let loaded = SandboxSettings {
-            threads: max_threads(),
-            shatter_fragments: 50,
-            shatter_threshold: 100.0,
-            gravity_method: GravityMethod::Tree { theta: 1.9 },
-            split: SplitPolicy::Above(MAX_BODY_COUNT * 10),
+        let mut loaded = SandboxSettings {
             trails: TrailChoice::Fastest,
             ..SandboxSettings::default()
         };
+        loaded.execution.threads = Some(max_threads());
+        loaded.execution.split = Some(SplitPolicy::Above(MAX_BODY_COUNT * 10));
+        loaded.physics.shatter_fragments = 50;
+        loaded.physics.shatter_threshold = 100.0;
+        loaded.physics.gravity_method = GravityMethod::Tree { theta: 1.9 };
         let mut settings = loaded.clone();
         let mut state = SandboxState::new(crate::scenario::Scenario::builtin_default(), &settings);
         let (mut path_field, mut files) = (String::new(), Some(Vec::new()));
@@ -701,7 +718,7 @@ mod tests {
             let _ = ctx.run_ui(egui::RawInput::default(), |ui| {
                 run_controls(ui, &mut settings, &mut state);
                 execution(ui, &mut settings, &running);
-                physics(ui, &mut settings);
+                physics(ui, &mut settings.physics);
                 scene(ui, &mut settings, &mut state, &mut path_field, &mut files);
                 rendering(ui, &mut settings);
             });
@@ -711,11 +728,11 @@ mod tests {
 
     #[test]
     fn the_panel_says_when_steps_run_on_fewer_threads_than_asked() {
-        let settings = SandboxSettings {
-            mode: ExecutionMode::Parallel,
-            threads: 3,
-            pool: WorkerPool::Kessler,
-            ..SandboxSettings::default()
+        let settings = ExecutionOptions {
+            mode: Some(ExecutionMode::Parallel),
+            threads: Some(3),
+            pool: Some(WorkerPool::Kessler),
+            split: None,
         };
         let running = |cores: usize| {
             Execution::new(ExecutionMode::Parallel, 3)
@@ -728,13 +745,16 @@ mod tests {
             Some("steps run on 2 of them: the cores beside the drawing")
         );
         assert_eq!(fewer_threads_note(&settings, &running(4)), None, "all three run");
-        let sequential = SandboxSettings {
-            mode: ExecutionMode::Sequential,
-            ..settings.clone()
+        let sequential = ExecutionOptions {
+            mode: Some(ExecutionMode::Sequential),
+            ..settings
         };
         assert_eq!(fewer_threads_note(&sequential, &running(1)), None);
         // Not yet applied: the pool still has its old thread count.
-        let asked_more = SandboxSettings { threads: 5, ..settings };
+        let asked_more = ExecutionOptions {
+            threads: Some(5),
+            ..settings
+        };
         assert_eq!(fewer_threads_note(&asked_more, &running(2)), None);
     }
 

@@ -11,9 +11,10 @@ use super::sandbox_settings::SandboxSettings;
 use super::scene::SandboxState;
 use super::update_clock::{UpdateClock, updates_within_budget};
 use crate::execution::Execution;
+use crate::input::ExecutionOptions;
 use crate::resources::SimulationSettings;
 use crate::scenario::{Event, Set};
-use crate::systems::{SimulationFault, StageTimings, run_updates};
+use crate::systems::{SimulationFault, StageTimings, UpdateCount, run_updates};
 use crate::timed_events::record_event;
 use crate::ui::sets::SandboxSystems;
 
@@ -43,18 +44,8 @@ impl Plugin for DrivePlugin {
 /// run is at.
 fn apply_live_settings(world: &mut World) {
     let settings = world.resource::<SandboxSettings>().clone();
-    let mut execution = world.resource_mut::<Execution>();
-    if execution.mode() != settings.mode {
-        execution.set_mode(settings.mode);
-    }
-    if execution.split() != settings.split {
-        execution.set_split(settings.split);
-    }
-    if execution.pool() != settings.pool {
-        execution.set_pool(settings.pool);
-    }
-    if execution.threads() != settings.threads
-        && let Err(e) = execution.set_threads(settings.threads)
+    if ExecutionOptions::of(world.resource::<Execution>()) != settings.execution.resolved()
+        && let Err(e) = settings.execution.apply_to(&mut world.resource_mut::<Execution>())
     {
         warn!("threads: {e}");
     }
@@ -64,7 +55,7 @@ fn apply_live_settings(world: &mut World) {
     if physics == wanted {
         return;
     }
-    let update = world.resource::<SimulationFault>().updates;
+    let update = world.resource::<UpdateCount>().0;
     if let Some(set) = Set::between(update, &physics, &wanted) {
         record_event(world, Event::Set(set));
     }
@@ -176,7 +167,7 @@ mod tests {
         let (ran, dropped) = (clock.updates_total, clock.dropped_total);
         assert_eq!(ran + dropped, 300, "{ran} ran, {dropped} dropped");
         assert!((2..=2 * 51).contains(&ran), "{ran} ran in two frames of a 50 ms budget");
-        assert_eq!(world.resource::<SimulationFault>().updates, ran);
+        assert_eq!(world.resource::<UpdateCount>().0, ran);
     }
 
     /// A run that stops at a fault pauses with the message where the panel
@@ -225,7 +216,7 @@ mod tests {
         app.update();
         app.update();
         let world = app.world();
-        assert_eq!(world.resource::<SimulationFault>().updates, 1);
+        assert_eq!(world.resource::<UpdateCount>().0, 1);
         assert_eq!(world.resource::<SandboxState>().error.as_ref(), Some(&error));
     }
 
@@ -254,7 +245,10 @@ mod tests {
             app.world_mut().resource_mut::<SandboxState>().step_requested = true;
             app.update();
         }
-        app.world_mut().resource_mut::<SandboxSettings>().shatter_threshold = 7.5;
+        app.world_mut()
+            .resource_mut::<SandboxSettings>()
+            .physics
+            .shatter_threshold = 7.5;
         app.update();
         let world = app.world();
         assert_eq!(world.resource::<SimulationSettings>().shatter_threshold, 7.5);
@@ -267,7 +261,10 @@ mod tests {
         let [Event::Set(set)] = recorded.as_slice() else {
             panic!("{recorded:?}")
         };
-        assert_eq!((set.update, set.keys.as_slice()), (2, ["shatter_threshold"].as_slice()));
+        assert_eq!(
+            (set.update, set.settings.keys.as_slice()),
+            (2, ["shatter_threshold"].as_slice())
+        );
         // The scenario's own Set, at update 3, reaches the panel.
         for _ in 0..2 {
             app.world_mut().resource_mut::<SandboxState>().step_requested = true;
@@ -275,7 +272,7 @@ mod tests {
         }
         let world = app.world();
         assert_eq!(world.resource::<SimulationSettings>().fragment_spread, 0.5);
-        assert_eq!(world.resource::<SandboxSettings>().fragment_spread, 0.5);
+        assert_eq!(world.resource::<SandboxSettings>().physics.fragment_spread, 0.5);
         assert_eq!(
             world.resource::<crate::timed_events::EventQueue>().all().count(),
             2,

@@ -6,12 +6,10 @@ use std::path::PathBuf;
 use bevy::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::execution::{ExecutionMode, MAX_THREADS, SplitPolicy, WorkerPool, available_threads};
+use crate::execution::{MAX_THREADS, available_threads};
 use crate::input::ExecutionOptions;
-use crate::resources::DrawMethod;
 use crate::resources::{
-    Applies, CollisionDetection, FragmentSizes, GravityMethod, Integrator, MAX_BODIES, MAX_FRAGMENT_SPREAD,
-    MAX_FRAGMENTS, SettingValue, SimulationSettings, check,
+    Applies, DrawMethod, MAX_BODIES, MAX_FRAGMENT_SPREAD, MAX_FRAGMENTS, SimulationSettings, as_written,
 };
 
 /// Slowest and fastest target update rate, updates per second.
@@ -97,11 +95,9 @@ impl CameraMode {
 }
 
 /// In `$this`, takes every field named in which `$now` differs from
-/// `$start`, pushing its name onto `$taken`. Every field must be named: a
-/// new one fails to compile.
+/// `$start`, pushing its name onto `$taken`.
 macro_rules! take_changed {
-    ($this:ident, $start:ident, $now:ident, $taken:ident; $($name:ident),* $(,)?) => {
-        let SandboxSettings { $($name: _),* } = $now;
+    ($this:expr, $start:expr, $now:expr, $taken:ident; $($name:ident),* $(,)?) => {
         $(
             if $now.$name != $start.$name {
                 $this.$name = $now.$name.clone();
@@ -111,190 +107,130 @@ macro_rules! take_changed {
     };
 }
 
-/// Declares [`SandboxSettings`] with a field for each physics setting the
-/// window holds (`[window]` in the settings list), named, documented and
-/// defaulted as the list says, and the code that moves those fields between
-/// the window and the simulation.
-macro_rules! declare_sandbox_settings {
-    ($(
-        $(#[doc = $doc:literal])* $field:ident $(as $key:literal)?: $ty:ty = $default:expr,
-            $rule:literal, $ok:expr, $applies:ident;
-    )*) => {
-        /// Everything the panel sets. Fields missing from a settings file
-        /// take their default, so files written by older versions still
-        /// load. The physics settings are named as their fields
-        /// ([`SimulationSettings`]) are, which is the name in files except
-        /// for `gravity_method` (`gravity` in scenarios).
-        #[derive(Resource, Clone, Debug, PartialEq, Serialize, Deserialize)]
-        #[serde(default, deny_unknown_fields)]
-        pub struct SandboxSettings {
-            /// Sequential or parallel stages (live).
-            pub mode: ExecutionMode,
-            /// Worker threads in parallel mode (live).
-            pub threads: usize,
-            /// From which body count stages split their work in parallel
-            /// mode (live).
-            pub split: SplitPolicy,
-            /// Which pool runs the parallel steps (live): Kessler's own or
-            /// Bevy's `ComputeTaskPool`.
-            pub pool: WorkerPool,
-            /// Wait for the display's refresh (live); off draws as fast as
-            /// possible, as the thesis measured.
-            pub vsync: bool,
-            /// Draw the bodies at all (live).
-            pub render_bodies: bool,
-            /// Color cubes by state: colliding, fragment, speed (live).
-            pub visual_effects: bool,
-            /// Broad phase on/off (live).
-            pub collisions: bool,
-            /// Bounce and shatter on/off (live; the thesis's "collision
-            /// effects", which older settings files call it).
-            #[serde(alias = "collision_effects")]
-            pub collision_response: bool,
-            /// Gravity on/off (live).
-            pub gravity: bool,
-            $(
-                $(#[doc = $doc])*
-                #[doc = concat!("(The window applies it: `", stringify!($applies), "`.)")]
-                pub $field: $ty,
-            )*
-            /// Target simulation updates per second, 1–600 (live).
-            pub updates_per_second: u32,
-            /// Factor on the update rate (live).
-            pub speed: f32,
-            /// Generated bodies; `None` keeps the scenario's count (on
-            /// restart).
-            pub body_count: Option<u64>,
-            /// Scenario file; `None` is the built-in debris field (on
-            /// restart).
-            pub scenario: Option<PathBuf>,
-            /// Camera (live).
-            pub camera: CameraMode,
-            /// Drawing method (live).
-            pub render_method: DrawMethod,
-            /// Show the planet's collision box (live).
-            pub show_collision_boxes: bool,
-            /// Trails besides the selected body's (live).
-            pub trails: TrailChoice,
-            /// How many bodies [`Self::trails`] picks, in
-            /// [`TRAIL_COUNT_RANGE`] (live).
-            pub trail_count: u32,
-        }
-
-        impl Default for SandboxSettings {
-            fn default() -> Self {
-                Self {
-                    mode: ExecutionMode::Parallel,
-                    threads: available_threads(),
-                    split: SplitPolicy::Auto,
-                    pool: WorkerPool::Kessler,
-                    vsync: true,
-                    render_bodies: true,
-                    visual_effects: true,
-                    collisions: true,
-                    collision_response: true,
-                    gravity: true,
-                    $($field: SimulationSettings::DEFAULT.$field,)*
-                    updates_per_second: 60,
-                    speed: 1.0,
-                    body_count: None,
-                    scenario: None,
-                    camera: CameraMode::Orbit,
-                    render_method: DrawMethod::Instanced,
-                    show_collision_boxes: false,
-                    trails: TrailChoice::Off,
-                    trail_count: 20,
-                }
-            }
-        }
-
-        impl SandboxSettings {
-            /// Takes into `self` every field in which `now` differs from
-            /// `start`, keeping its own value for the rest; returns the
-            /// names of the fields taken. Saving uses it with the file's own
-            /// values as `self`, the settings in force at start (after the
-            /// command line's one-run choices) as `start` and the settings
-            /// at exit as `now`: only what the user changed during the
-            /// session reaches the file.
-            pub fn take_changes(&mut self, start: &Self, now: &Self) -> Vec<&'static str> {
-                let mut taken = Vec::new();
-                take_changed!(self, start, now, taken;
-                    mode, threads, split, pool, vsync, render_bodies, visual_effects, collisions,
-                    collision_response, gravity, $($field,)* updates_per_second, speed, body_count,
-                    scenario, camera, render_method, show_collision_boxes, trails, trail_count,
-                );
-                taken
-            }
-
-            /// The physics settings held to the settings list's rules: a
-            /// value against its rule is replaced by the nearest allowed
-            /// one, or the default.
-            fn fix_physics(&mut self, fixes: &mut Fixes) {
-                $(
-                    fixes.check(stringify!($field), &mut self.$field, $rule, |&v| {
-                        let ok = |v| check::$field(v).is_ok();
-                        (!ok(v)).then(|| v.nearest_allowed(SimulationSettings::DEFAULT.$field, ok))
-                    });
-                )*
-            }
-
-            /// The panel's values in `base`: its physics settings and stage
-            /// switches.
-            fn physics_over(&self, base: &SimulationSettings) -> SimulationSettings {
-                SimulationSettings {
-                    $($field: self.$field,)*
-                    gravity: self.gravity,
-                    collisions: self.collisions,
-                    collision_response: self.collision_response,
-                    ..base.clone()
-                }
-            }
-
-            /// The physics settings the panel holds that apply on restart
-            /// and differ between `self` and `built`, by their names in
-            /// files.
-            pub fn restart_physics_changed(&self, built: &Self) -> Vec<&'static str> {
-                let mut changed = Vec::new();
-                $(
-                    if self.$field != built.$field && Applies::$applies == Applies::OnRestart {
-                        changed.push(crate::resources::key!($field $($key)?));
-                    }
-                )*
-                changed
-            }
-
-            /// Takes `physics`' values of the physics settings the panel
-            /// holds: those the window applies live, or all.
-            fn adopt(&mut self, physics: &SimulationSettings, live_only: bool) {
-                $(
-                    if !live_only || Applies::$applies == Applies::Live {
-                        self.$field = physics.$field;
-                    }
-                )*
-            }
-        }
-    };
+/// Everything the panel sets. Fields missing from a settings file take
+/// their default, so files written by older versions still load (read by
+/// [`settings_file`](super::settings_file), which also reads the flat
+/// layout of files written before `execution` and `physics` were fields).
+#[derive(Resource, Clone, Debug, PartialEq, Serialize)]
+#[serde(rename = "SandboxSettings")]
+pub struct SandboxSettings {
+    /// How the simulation executes (live): every option given.
+    pub execution: ExecutionOptions,
+    /// The physics and the stage switches: the scenario's when it is
+    /// loaded, then as the panel changes them; each setting applied live
+    /// or on restart as its rule says ([`crate::resources::rules`]).
+    pub physics: SimulationSettings,
+    /// Wait for the display's refresh (live); off draws as fast as
+    /// possible, as the thesis measured.
+    pub vsync: bool,
+    /// Draw the bodies at all (live).
+    pub render_bodies: bool,
+    /// Color cubes by state: colliding, fragment, speed (live).
+    pub visual_effects: bool,
+    /// Target simulation updates per second, 1–600 (live).
+    pub updates_per_second: u32,
+    /// Factor on the update rate (live).
+    pub speed: f32,
+    /// Generated bodies; `None` keeps the scenario's count (on restart).
+    pub body_count: Option<u64>,
+    /// Scenario file; `None` is the built-in debris field (on restart).
+    pub scenario: Option<PathBuf>,
+    /// Camera (live).
+    pub camera: CameraMode,
+    /// Drawing method (live).
+    pub render_method: DrawMethod,
+    /// Show the planet's collision box (live).
+    pub show_collision_boxes: bool,
+    /// Trails besides the selected body's (live).
+    pub trails: TrailChoice,
+    /// How many bodies [`Self::trails`] picks, in [`TRAIL_COUNT_RANGE`]
+    /// (live).
+    pub trail_count: u32,
 }
 
-crate::resources::held_by!(window declare_sandbox_settings);
-
-impl SandboxSettings {
-    /// How the simulation executes, every option given.
-    pub fn execution(&self) -> ExecutionOptions {
-        ExecutionOptions {
-            mode: Some(self.mode),
-            threads: Some(self.threads),
-            split: Some(self.split),
-            pool: Some(self.pool),
+impl Default for SandboxSettings {
+    fn default() -> Self {
+        Self {
+            execution: ExecutionOptions::defaults(),
+            physics: SimulationSettings::DEFAULT,
+            vsync: true,
+            render_bodies: true,
+            visual_effects: true,
+            updates_per_second: 60,
+            speed: 1.0,
+            body_count: None,
+            scenario: None,
+            camera: CameraMode::Orbit,
+            render_method: DrawMethod::Instanced,
+            show_collision_boxes: false,
+            trails: TrailChoice::Off,
+            trail_count: 20,
         }
     }
+}
 
-    /// Takes each option `options` gives.
-    pub fn set_execution(&mut self, options: ExecutionOptions) {
-        self.mode = options.mode.unwrap_or(self.mode);
-        self.threads = options.threads.unwrap_or(self.threads);
-        self.split = options.split.unwrap_or(self.split);
-        self.pool = options.pool.unwrap_or(self.pool);
+impl SandboxSettings {
+    /// Takes into `self` every field in which `now` differs from `start`,
+    /// keeping its own value for the rest; returns the names of the fields
+    /// taken (an execution option, a physics setting or a stage switch by
+    /// its own name). Saving uses it with the file's own values as `self`,
+    /// the settings in force at start (after the command line's one-run
+    /// choices) as `start` and the settings at exit as `now`: only what the
+    /// user changed during the session reaches the file.
+    pub fn take_changes(&mut self, start: &Self, now: &Self) -> Vec<&'static str> {
+        let mut taken = Vec::new();
+        take_changed!(self.execution, start.execution, now.execution, taken; mode, threads, split, pool);
+        for setting in start.physics.differing(&now.physics) {
+            self.physics.take(setting.key, &now.physics);
+            taken.push(setting.field);
+        }
+        take_changed!(self.physics.stages, start.physics.stages, now.physics.stages, taken;
+            gravity, collisions, collision_response);
+        take_changed!(self, start, now, taken;
+            vsync, render_bodies, visual_effects, updates_per_second, speed, body_count, scenario, camera,
+            render_method, show_collision_boxes, trails, trail_count,
+        );
+        taken
+    }
+
+    /// The physics settings that apply on restart and differ between
+    /// `self` and `built`, by their names in files.
+    pub fn restart_physics_changed(&self, built: &Self) -> Vec<&'static str> {
+        built
+            .physics
+            .differing(&self.physics)
+            .into_iter()
+            .filter(|s| s.applies == Applies::OnRestart)
+            .map(|s| s.key)
+            .collect()
+    }
+
+    /// Copies the live physics settings and the stage switches into the
+    /// simulation's settings.
+    pub fn apply_physics(&self, physics: &mut SimulationSettings) {
+        physics.take_live(&self.physics);
+        physics.stages = self.physics.stages;
+    }
+
+    /// The physics a scene is rebuilt with: the panel's, every setting
+    /// (live or on restart) and its stage switches.
+    pub fn physics_for_restart(&self) -> SimulationSettings {
+        self.physics.clone()
+    }
+
+    /// Takes the running simulation's values of the live physics settings
+    /// (after a `Set` event or a rewind changed them).
+    pub fn adopt_live(&mut self, physics: &SimulationSettings) {
+        self.physics.take_live(physics);
+    }
+
+    /// Takes a freshly loaded scenario's own physics settings; the stage
+    /// switches stay as the panel has them.
+    pub fn adopt_scenario(&mut self, physics: &SimulationSettings) {
+        self.physics = SimulationSettings {
+            stages: self.physics.stages,
+            ..physics.clone()
+        };
     }
 }
 
@@ -327,13 +263,6 @@ impl std::fmt::Display for OutOfRange {
             self.field, self.found, self.allowed, self.used
         )
     }
-}
-
-/// `value` as a settings file writes it, on one line: `Tree(theta: NaN)`,
-/// `Some(5000000)`, `2.5`.
-fn as_written<T: Serialize>(value: &T) -> String {
-    let one_line = ron::ser::PrettyConfig::new().depth_limit(0);
-    ron::ser::to_string_pretty(value, one_line).unwrap_or_else(|e| format!("(not writable: {e})"))
 }
 
 /// Collects the fields [`SandboxSettings::sanitize`] replaces.
@@ -381,13 +310,17 @@ impl SandboxSettings {
     /// of what is allowed).
     pub fn sanitize(&mut self) -> Vec<OutOfRange> {
         let mut fixes = Fixes(Vec::new());
+        // Every option given: what the file leaves out at its default.
+        self.execution = self.execution.resolved();
         let threads = 1..=max_threads();
-        fixes.check(
-            "threads",
-            &mut self.threads,
-            &format!("1 to {} on this machine, twice its hardware threads", threads.end()),
-            |&n| clamped(n, &threads),
-        );
+        if let Some(n) = &mut self.execution.threads {
+            fixes.check(
+                "threads",
+                n,
+                &format!("1 to {} on this machine, twice its hardware threads", threads.end()),
+                |&n| clamped(n, &threads),
+            );
+        }
         fixes.check(
             "updates_per_second",
             &mut self.updates_per_second,
@@ -411,7 +344,14 @@ impl SandboxSettings {
                     .then_some(Some(MAX_BODY_COUNT))
             },
         );
-        self.fix_physics(&mut fixes);
+        self.physics.fix_problems(|setting, found, used| {
+            fixes.0.push(OutOfRange {
+                field: setting.field,
+                found,
+                allowed: setting.rule.to_owned(),
+                used,
+            });
+        });
         fixes.check(
             "trail_count",
             &mut self.trail_count,
@@ -420,34 +360,6 @@ impl SandboxSettings {
         );
         fixes.0
     }
-
-    /// Copies the live physics settings and the stage switches into the
-    /// simulation's settings.
-    pub fn apply_physics(&self, physics: &mut SimulationSettings) {
-        let panel = self.physics_over(physics);
-        physics.take_live(&panel);
-        physics.gravity = panel.gravity;
-        physics.collisions = panel.collisions;
-        physics.collision_response = panel.collision_response;
-    }
-
-    /// The physics a scene is rebuilt with: the scenario's, with every
-    /// setting the panel holds (live or on restart) and its stage switches.
-    pub fn physics_for_restart(&self, scenario: &SimulationSettings) -> SimulationSettings {
-        self.physics_over(scenario)
-    }
-
-    /// Takes the running simulation's values of the live physics settings
-    /// (after a `Set` event or a rewind changed them).
-    pub fn adopt_live(&mut self, physics: &SimulationSettings) {
-        self.adopt(physics, true);
-    }
-
-    /// Takes a freshly loaded scenario's own values of the physics
-    /// settings the panel holds.
-    pub fn adopt_scenario(&mut self, physics: &SimulationSettings) {
-        self.adopt(physics, false);
-    }
 }
 
 #[cfg(test)]
@@ -455,24 +367,28 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_window_holds_the_settings_the_list_gives_it_and_no_others() {
-        let file = ron::ser::to_string(&SandboxSettings::default()).unwrap();
-        for row in crate::resources::SETTINGS {
-            let held = file.contains(&format!("{}:", row.field));
-            assert_eq!(held, row.holders.contains(&"window"), "{}: {file}", row.field);
-        }
-        // The window's defaults are the list's, and what it does not hold
-        // comes from the scenario.
-        assert_eq!(
-            SandboxSettings::default().physics_over(&SimulationSettings::DEFAULT),
-            SimulationSettings::DEFAULT
-        );
+    fn a_restart_builds_with_the_panels_physics_and_a_loaded_scenario_sets_them() {
         let scenario = SimulationSettings {
             time_step: 0.5,
             softening: 2.0,
             ..SimulationSettings::DEFAULT
         };
-        assert_eq!(SandboxSettings::default().physics_over(&scenario), scenario);
+        let mut settings = SandboxSettings::default();
+        settings.physics.stages.collisions = false;
+        settings.adopt_scenario(&scenario);
+        assert_eq!(settings.physics.time_step, 0.5);
+        assert!(
+            !settings.physics.stages.collisions,
+            "the stage switches stay the panel's"
+        );
+        settings.physics.seed = 9;
+        let built = settings.physics_for_restart();
+        assert_eq!((built.time_step, built.seed), (0.5, 9));
+        let before = SandboxSettings::default();
+        assert_eq!(
+            settings.restart_physics_changed(&before),
+            ["time_step", "softening", "seed"]
+        );
     }
 
     #[test]
@@ -490,32 +406,30 @@ mod tests {
     #[test]
     fn a_fragment_spread_out_of_range_is_replaced_and_named() {
         for bad in [f32::NAN, -0.1, 11.0] {
-            let mut settings = SandboxSettings {
-                fragment_spread: bad,
-                ..SandboxSettings::default()
-            };
+            let mut settings = SandboxSettings::default();
+            settings.physics.fragment_spread = bad;
             let fixed: Vec<_> = settings.sanitize().into_iter().map(|f| f.field).collect();
             assert_eq!(fixed, ["fragment_spread"], "{bad}");
-            assert_eq!(settings.fragment_spread, 0.2);
+            assert_eq!(settings.physics.fragment_spread, 0.2);
         }
         let mut physics = SimulationSettings::default();
-        SandboxSettings {
-            fragment_spread: 0.7,
-            ..SandboxSettings::default()
-        }
-        .apply_physics(&mut physics);
+        let mut settings = SandboxSettings::default();
+        settings.physics.fragment_spread = 0.7;
+        settings.physics.time_step = 0.25;
+        settings.apply_physics(&mut physics);
         assert_eq!(physics.fragment_spread, 0.7, "live");
+        assert_eq!(physics.time_step, 1.0, "on restart");
     }
 
     #[test]
     fn every_value_out_of_range_is_named_with_what_is_used_instead() {
         let mut settings = SandboxSettings {
-            threads: max_threads() + 1,
-            shatter_fragments: crate::scenario::MAX_FRAGMENTS + 1,
-            shatter_threshold: -1.0,
             updates_per_second: 0,
             ..SandboxSettings::default()
         };
+        settings.execution.threads = Some(max_threads() + 1);
+        settings.physics.shatter_fragments = crate::scenario::MAX_FRAGMENTS + 1;
+        settings.physics.shatter_threshold = -1.0;
         let fixes = settings.sanitize();
         let fields: Vec<_> = fixes.iter().map(|f| f.field).collect();
         assert_eq!(
@@ -527,10 +441,10 @@ mod tests {
                 "shatter_fragments"
             ]
         );
-        assert_eq!(settings.threads, max_threads());
-        assert_eq!(settings.shatter_fragments, crate::scenario::MAX_FRAGMENTS);
+        assert_eq!(settings.execution.threads, Some(max_threads()));
+        assert_eq!(settings.physics.shatter_fragments, crate::scenario::MAX_FRAGMENTS);
         assert_eq!(
-            settings.shatter_threshold,
+            settings.physics.shatter_threshold,
             SimulationSettings::default().shatter_threshold
         );
         assert_eq!(settings.updates_per_second, 1);
@@ -556,10 +470,10 @@ mod tests {
     #[test]
     fn a_value_out_of_range_is_shown_as_the_file_writes_it() {
         let mut settings = SandboxSettings {
-            gravity_method: GravityMethod::Tree { theta: f32::NAN },
             body_count: Some(MAX_BODY_COUNT + 1),
             ..SandboxSettings::default()
         };
+        settings.physics.gravity_method = crate::resources::GravityMethod::Tree { theta: f32::NAN };
         let texts: Vec<String> = settings.sanitize().iter().map(ToString::to_string).collect();
         for said in [
             "body_count Some(2000001) is out of range (None or Some(0 to 2000000)), using Some(2000000)".to_owned(),
@@ -574,13 +488,11 @@ mod tests {
 
     #[test]
     fn values_beyond_the_panel_sliders_but_allowed_are_kept() {
-        let mut settings = SandboxSettings {
-            threads: 1,
-            shatter_fragments: 50,
-            shatter_threshold: 100.0,
-            gravity_method: GravityMethod::Tree { theta: 1.9 },
-            ..SandboxSettings::default()
-        };
+        let mut settings = SandboxSettings::default();
+        settings.execution.threads = Some(1);
+        settings.physics.shatter_fragments = 50;
+        settings.physics.shatter_threshold = 100.0;
+        settings.physics.gravity_method = crate::resources::GravityMethod::Tree { theta: 1.9 };
         let before = settings.clone();
         assert!(settings.sanitize().is_empty());
         assert_eq!(settings, before);
@@ -591,32 +503,30 @@ mod tests {
         // The file's own values (one out of range), the settings at start
         // (sanitized, with one-run choices from the command line), and at
         // exit (the user changed the threads).
-        let file = SandboxSettings {
-            threads: 999,
-            seed: 5,
-            body_count: None,
-            ..SandboxSettings::default()
-        };
-        let start = SandboxSettings {
-            threads: max_threads(),
+        let mut file = SandboxSettings::default();
+        file.execution.threads = Some(999);
+        file.physics.seed = 5;
+        let mut start = SandboxSettings {
             body_count: Some(200),
             scenario: Some(PathBuf::from("other.ron")),
-            seed: 6,
             ..file.clone()
         };
-        let now = SandboxSettings {
-            threads: 1,
-            ..start.clone()
-        };
+        start.execution.threads = Some(max_threads());
+        start.physics.seed = 6;
+        let mut now = start.clone();
+        now.execution.threads = Some(1);
+        now.physics.shatter_threshold = 7.0;
+        now.physics.stages.gravity = false;
         let mut saved = file.clone();
-        assert_eq!(saved.take_changes(&start, &now), ["threads"]);
         assert_eq!(
-            saved,
-            SandboxSettings {
-                threads: 1,
-                ..file.clone()
-            }
+            saved.take_changes(&start, &now),
+            ["threads", "shatter_threshold", "gravity"]
         );
+        let mut expected = file.clone();
+        expected.execution.threads = Some(1);
+        expected.physics.shatter_threshold = 7.0;
+        expected.physics.stages.gravity = false;
+        assert_eq!(saved, expected, "the seed the command line chose is not saved");
 
         let mut untouched = file.clone();
         assert!(untouched.take_changes(&start, &start).is_empty());

@@ -119,7 +119,7 @@ pub fn build_bodies(
 /// and the chosen body count.
 fn built_scenario(scenario: &Scenario, settings: &SandboxSettings) -> Result<Scenario, SceneError> {
     let mut scenario = scenario.clone();
-    scenario.physics = settings.physics_for_restart(&scenario.physics);
+    scenario.physics = settings.physics_for_restart();
     if let Some(count) = settings.body_count {
         scenario = scenario.with_generated(count)?;
     }
@@ -200,15 +200,16 @@ mod tests {
     #[test]
     fn restart_builds_the_chosen_body_count_and_seed() {
         let scenario = Scenario::builtin_default();
-        let settings = SandboxSettings {
+        let mut settings = SandboxSettings {
             body_count: Some(500),
-            seed: 7,
             ..SandboxSettings::default()
         };
+        settings.physics.seed = 7;
         let (bodies, physics) = build_bodies(&scenario, &settings).unwrap();
         assert_eq!(bodies.len(), scenario.bodies.len() + 500);
         assert_eq!(physics.seed, 7);
-        let other = SandboxSettings { seed: 8, ..settings };
+        let mut other = settings;
+        other.physics.seed = 8;
         let (reseeded, _) = build_bodies(&scenario, &other).unwrap();
         assert_ne!(bodies, reseeded, "the seed reaches the generators");
     }
@@ -216,16 +217,18 @@ mod tests {
     #[test]
     fn live_switches_reach_the_physics() {
         let scenario = Scenario::builtin_default();
-        let settings = SandboxSettings {
+        let mut settings = SandboxSettings {
             body_count: Some(10),
-            gravity: false,
-            collision_response: false,
-            shatter_fragments: 9,
-            shatter_threshold: 1.5,
             ..SandboxSettings::default()
         };
+        settings.adopt_scenario(&scenario.physics);
+        settings.physics.stages.gravity = false;
+        settings.physics.stages.collision_response = false;
+        settings.physics.shatter_fragments = 9;
+        settings.physics.shatter_threshold = 1.5;
         let (_, physics) = build_bodies(&scenario, &settings).unwrap();
-        assert!(!physics.gravity && physics.collisions && !physics.collision_response);
+        let stages = physics.stages;
+        assert!(!stages.gravity && stages.collisions && !stages.collision_response);
         assert_eq!((physics.shatter_fragments, physics.shatter_threshold), (9, 1.5));
         assert_eq!(physics.time_step, scenario.physics.time_step);
     }
@@ -246,12 +249,12 @@ mod tests {
     fn restart_only_settings_are_reported_as_pending() {
         let settings = SandboxSettings::default();
         let state = SandboxState::new(Scenario::builtin_default(), &settings);
-        let changed = SandboxSettings {
-            seed: 42,
-            gravity: false,
+        let mut changed = SandboxSettings {
             updates_per_second: 300,
             ..settings
         };
+        changed.physics.seed = 42;
+        changed.physics.stages.gravity = false;
         assert_eq!(state.pending_restart(&changed), vec!["seed"]);
     }
 
@@ -263,7 +266,7 @@ mod tests {
             crate::systems::SimulationPlugins,
             crate::timed_events::EventsPlugin,
         ))
-        .insert_resource(crate::execution::Execution::new(settings.mode, 1).unwrap());
+        .insert_resource(crate::execution::Execution::new(settings.execution.mode(), 1).unwrap());
         let state = SandboxState::new(Scenario::builtin_default(), &settings);
         app.insert_resource(settings).insert_resource(state);
         std::mem::take(app.world_mut())
@@ -294,7 +297,7 @@ mod tests {
             let mut settings = world.resource_mut::<SandboxSettings>();
             settings.scenario = Some(two_body.clone());
             settings.body_count = None;
-            settings.seed = 12345;
+            settings.physics.seed = 12345;
         }
         world.resource_mut::<SandboxState>().restart_requested = true;
         restart_scene(&mut world);
@@ -302,7 +305,7 @@ mod tests {
         assert!(state.error.is_none(), "{:?}", state.error);
         assert_eq!(state.loaded_path.as_deref(), Some(two_body.as_path()));
         assert_eq!(state.generation, 2);
-        assert_ne!(world.resource::<SandboxSettings>().seed, 12345);
+        assert_ne!(world.resource::<SandboxSettings>().physics.seed, 12345);
         assert_eq!(body_count(&mut world), 2);
     }
 

@@ -20,9 +20,10 @@ use std::path::{Path, PathBuf};
 
 use bevy::prelude::*;
 use ron::extensions::Extensions;
+use serde::de::{self, Deserialize, Deserializer, MapAccess, Visitor};
 
 use super::sandbox_settings::SandboxSettings;
-use crate::input::{parse_ron, read_text_if_present};
+use crate::input::{ExecutionOptions, FieldName, parse_ron, read_text_if_present};
 use crate::output::{WriteError, through_link, write_atomically};
 
 /// The settings file, what it holds, what was in force at start, and any
@@ -94,15 +95,120 @@ pub fn load_settings(path: &Path) -> (SandboxSettings, Option<SandboxSettings>, 
     }
 }
 
-/// The number the field `field` of the settings file's `text` holds, as
-/// written (at full width, where an `f32` took it as infinite).
+/// The number the field `field` of the settings file's `text` holds, at
+/// the top or within `physics`, as written (at full width, where an `f32`
+/// took it as infinite).
 fn written_number(text: &str, field: &str) -> Option<String> {
     let ron::Value::Map(map) = ron::from_str::<ron::Value>(text).ok()? else {
         return None;
     };
-    match map.get(&ron::Value::String(field.to_owned()))? {
+    let key = |name: &str| ron::Value::String(name.to_owned());
+    let value = map.get(&key(field)).or_else(|| match map.get(&key("physics")) {
+        Some(ron::Value::Map(physics)) => physics.get(&key(field)),
+        _ => None,
+    })?;
+    match value {
         ron::Value::Number(n) => Some(crate::input::shown_number(n.into_f64())),
         _ => None,
+    }
+}
+
+/// The execution options as the settings file holds them: a thread count
+/// of any size, held to this machine's range once read
+/// ([`SandboxSettings::sanitize`]).
+struct AsStored(ExecutionOptions);
+
+impl<'de> Deserialize<'de> for AsStored {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct OptionsVisitor;
+        impl<'de> Visitor<'de> for OptionsVisitor {
+            type Value = AsStored;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("execution options, as (mode: Parallel, threads: 2)")
+            }
+
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<AsStored, A::Error> {
+                let mut options = ExecutionOptions::default();
+                while let Some(FieldName(key)) = map.next_key()? {
+                    if !options.read_field_unchecked(&key, &mut map)? {
+                        return Err(de::Error::unknown_field(&key, &["mode", "threads", "split", "pool"]));
+                    }
+                }
+                Ok(AsStored(options))
+            }
+        }
+        d.deserialize_struct("Execution", &["mode", "threads", "split", "pool"], OptionsVisitor)
+    }
+}
+
+/// The fields of the settings file, as [`SandboxSettings`] has them.
+const FIELDS: &[&str] = &[
+    "execution",
+    "physics",
+    "vsync",
+    "render_bodies",
+    "visual_effects",
+    "updates_per_second",
+    "speed",
+    "body_count",
+    "scenario",
+    "camera",
+    "render_method",
+    "show_collision_boxes",
+    "trails",
+    "trail_count",
+];
+
+/// Read by hand rather than derived so that files written before
+/// `execution` and `physics` were fields of their own still load: their
+/// options, settings (by field name) and stage switches stood at the top.
+impl<'de> Deserialize<'de> for SandboxSettings {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct SettingsVisitor;
+        impl<'de> Visitor<'de> for SettingsVisitor {
+            type Value = SandboxSettings;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("the window's settings, as (execution: (...), physics: (...), vsync: true, ...)")
+            }
+
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<SandboxSettings, A::Error> {
+                let mut s = SandboxSettings::default();
+                while let Some(FieldName(key)) = map.next_key()? {
+                    match key.as_str() {
+                        "execution" => s.execution = map.next_value::<AsStored>()?.0.or(s.execution),
+                        "physics" => s.physics = map.next_value()?,
+                        "vsync" => s.vsync = map.next_value()?,
+                        "render_bodies" => s.render_bodies = map.next_value()?,
+                        "visual_effects" => s.visual_effects = map.next_value()?,
+                        "updates_per_second" => s.updates_per_second = map.next_value()?,
+                        "speed" => s.speed = map.next_value()?,
+                        "body_count" => s.body_count = map.next_value()?,
+                        "scenario" => s.scenario = map.next_value()?,
+                        "camera" => s.camera = map.next_value()?,
+                        "render_method" => s.render_method = map.next_value()?,
+                        "show_collision_boxes" => s.show_collision_boxes = map.next_value()?,
+                        "trails" => s.trails = map.next_value()?,
+                        "trail_count" => s.trail_count = map.next_value()?,
+                        "gravity" => s.physics.stages.gravity = map.next_value()?,
+                        "collisions" => s.physics.stages.collisions = map.next_value()?,
+                        "collision_response" | "collision_effects" => {
+                            s.physics.stages.collision_response = map.next_value()?;
+                        }
+                        other => {
+                            if !s.execution.read_field_unchecked(other, &mut map)?
+                                && !s.physics.read_field_unchecked(other, &mut map)?
+                            {
+                                return Err(de::Error::unknown_field(other, FIELDS));
+                            }
+                        }
+                    }
+                }
+                Ok(s)
+            }
+        }
+        d.deserialize_struct("SandboxSettings", FIELDS, SettingsVisitor)
     }
 }
 
@@ -209,10 +315,8 @@ mod tests {
         let real = dir.path().join("real.ron");
         let link = dir.path().join("settings.ron");
         std::os::unix::fs::symlink(&real, &link).unwrap();
-        let settings = SandboxSettings {
-            seed: 5,
-            ..SandboxSettings::default()
-        };
+        let mut settings = SandboxSettings::default();
+        settings.physics.seed = 5;
         save_settings(&link, &settings).unwrap();
         assert!(
             link.symlink_metadata().unwrap().file_type().is_symlink(),
@@ -234,20 +338,24 @@ mod tests {
     fn saved_settings_load_back_equal() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("nested").join("settings.ron");
-        let settings = SandboxSettings {
-            mode: ExecutionMode::Sequential,
-            threads: 3,
+        let mut settings = SandboxSettings {
+            execution: ExecutionOptions {
+                mode: Some(ExecutionMode::Sequential),
+                threads: Some(3),
+                split: Some(SplitPolicy::Above(5000)),
+                pool: Some(crate::execution::WorkerPool::Bevy),
+            },
             updates_per_second: 240,
             body_count: Some(50_000),
-            seed: 99,
             scenario: Some(PathBuf::from("scenarios/cascade.ron")),
             camera: CameraMode::Fly,
             render_method: DrawMethod::MeshPerBody,
-            collision_response: false,
-            split: SplitPolicy::Above(5000),
             vsync: false,
             ..SandboxSettings::default()
         };
+        settings.physics.seed = 99;
+        settings.physics.stages.collision_response = false;
+        settings.physics.gravity_method = crate::resources::GravityMethod::Tree { theta: 0.25 };
         save_settings(&path, &settings).unwrap();
         let (loaded, saved, warning) = load_settings(&path);
         assert!(warning.is_none());
@@ -265,11 +373,40 @@ mod tests {
         let (loaded, _, warning) = load_settings(&path);
         assert!(warning.is_none(), "{warning:?}");
         assert_eq!(loaded.render_method, DrawMethod::SharedMesh);
+        assert_eq!(loaded.execution.threads, Some(2));
         assert_eq!(
-            (loaded.split, loaded.vsync),
-            (SplitPolicy::Auto, true),
+            (loaded.execution.split, loaded.vsync),
+            (Some(SplitPolicy::Auto), true),
             "defaults for new fields"
         );
+    }
+
+    /// Files written before the execution options and the physics were
+    /// fields of their own held them at the top, with the physics settings
+    /// by their field names and the stage switches beside them.
+    #[test]
+    fn older_flat_files_load_as_they_did() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("settings.ron");
+        std::fs::write(
+            &path,
+            "(mode: Sequential, split: Always, gravity_method: Direct, integrator: SemiImplicitEuler, \
+             shatter_fragments: 5000, gravity: false, vsync: false)",
+        )
+        .unwrap();
+        let (loaded, saved, warning) = load_settings(&path);
+        let warning = warning.unwrap();
+        assert!(warning.contains("shatter_fragments 5000 is out of range"), "{warning}");
+        assert_eq!(saved.unwrap().physics.shatter_fragments, 5000, "as read");
+        assert_eq!(loaded.execution.mode, Some(ExecutionMode::Sequential));
+        assert_eq!(loaded.execution.split, Some(SplitPolicy::Always));
+        assert_eq!(loaded.physics.gravity_method, crate::resources::GravityMethod::Direct);
+        assert_eq!(
+            loaded.physics.integrator,
+            crate::resources::Integrator::SemiImplicitEuler
+        );
+        assert_eq!(loaded.physics.shatter_fragments, 1000);
+        assert!(!loaded.physics.stages.gravity && !loaded.vsync);
     }
 
     #[test]
@@ -293,10 +430,8 @@ mod tests {
         assert!(file.save_if_changed(&settings).unwrap().is_empty());
         assert_eq!(std::fs::read_to_string(&path).unwrap(), garbage);
         // Once the user changes something, the file is replaced.
-        let changed = SandboxSettings {
-            gravity: false,
-            ..settings
-        };
+        let mut changed = settings;
+        changed.physics.stages.gravity = false;
         assert_eq!(file.save_if_changed(&changed).unwrap(), ["gravity"]);
         assert_eq!(load_settings(&path).0, changed);
     }
@@ -316,15 +451,23 @@ mod tests {
     fn out_of_range_values_are_clamped_with_a_warning() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("settings.ron");
-        std::fs::write(&path, "(updates_per_second: 5000, shatter_fragments: 0, threads: 0)").unwrap();
+        std::fs::write(
+            &path,
+            "(updates_per_second: 5000, physics: (shatter_fragments: 0), execution: (threads: 0))",
+        )
+        .unwrap();
         let (settings, saved, warning) = load_settings(&path);
         assert_eq!(settings.updates_per_second, 600);
-        assert_eq!(settings.shatter_fragments, 2);
-        assert_eq!(settings.threads, 1);
+        assert_eq!(settings.physics.shatter_fragments, 2);
+        assert_eq!(settings.execution.threads, Some(1));
         let saved = saved.unwrap();
         assert_eq!(
-            (saved.updates_per_second, saved.shatter_fragments, saved.threads),
-            (5000, 0, 0),
+            (
+                saved.updates_per_second,
+                saved.physics.shatter_fragments,
+                saved.execution.threads
+            ),
+            (5000, 0, Some(0)),
             "the file's own values, as read"
         );
         let warning = warning.unwrap();
@@ -342,9 +485,13 @@ mod tests {
     fn numbers_beyond_f32_are_named_as_written() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("settings.ron");
-        std::fs::write(&path, "SandboxSettings(speed: 1e39, shatter_threshold: -3e40)").unwrap();
+        std::fs::write(
+            &path,
+            "SandboxSettings(speed: 1e39, physics: (shatter_threshold: -3e40))",
+        )
+        .unwrap();
         let (settings, _, warning) = load_settings(&path);
-        assert_eq!((settings.speed, settings.shatter_threshold), (8.0, 3.0));
+        assert_eq!((settings.speed, settings.physics.shatter_threshold), (8.0, 3.0));
         let warning = warning.unwrap();
         assert!(warning.contains("speed 1e39 is out of range"), "{warning}");
         assert!(warning.contains("shatter_threshold -3e40 is out of range"), "{warning}");
@@ -380,26 +527,30 @@ mod tests {
             dir.path(),
             "(threads: 100000, shatter_fragments: 5000, seed: 3, body_count: Some(7))",
         );
-        let changed = SandboxSettings {
-            gravity: false,
-            ..settings.clone()
-        };
+        let mut changed = settings.clone();
+        changed.physics.stages.gravity = false;
         assert_eq!(file.save_if_changed(&changed).unwrap(), ["gravity"]);
         let (_, saved, _) = load_settings(&path);
         let saved = saved.unwrap();
-        assert!(!saved.gravity);
+        assert!(!saved.physics.stages.gravity);
         assert_eq!(
-            (saved.threads, saved.shatter_fragments, saved.seed, saved.body_count),
-            (100_000, 5000, 3, Some(7)),
+            (
+                saved.execution.threads,
+                saved.physics.shatter_fragments,
+                saved.physics.seed,
+                saved.body_count
+            ),
+            (Some(100_000), 5000, 3, Some(7)),
             "untouched, even out of range: written back as the file had them"
         );
         // A second save of the same settings writes nothing new.
         assert!(file.save_if_changed(&changed).unwrap().is_empty());
 
         // Changing the out-of-range value itself saves the new one.
-        let threads = SandboxSettings { threads: 1, ..changed };
+        let mut threads = changed;
+        threads.execution.threads = Some(1);
         assert_eq!(file.save_if_changed(&threads).unwrap(), ["threads", "gravity"]);
-        assert_eq!(load_settings(&path).1.unwrap().threads, 1);
+        assert_eq!(load_settings(&path).1.unwrap().execution.threads, Some(1));
     }
 
     #[test]
@@ -444,6 +595,6 @@ mod tests {
         std::fs::write(&path, "(collision_effects: false)").unwrap();
         let (settings, _, warning) = load_settings(&path);
         assert!(warning.is_none(), "{warning:?}");
-        assert!(!settings.collision_response);
+        assert!(!settings.physics.stages.collision_response);
     }
 }

@@ -16,7 +16,7 @@ use crate::components::{BodyState, BodyStateQuery};
 use crate::output::{check_new, write_atomically};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{Snapshot, write_session, write_snapshot};
-use crate::systems::SimulationFault;
+use crate::systems::UpdateCount;
 use crate::timed_events::EventQueue;
 use crate::ui::sets::SandboxSystems;
 
@@ -38,7 +38,7 @@ impl Plugin for SnapshotSavePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<SnapshotSave>()
             .init_resource::<EventQueue>()
-            .init_resource::<SimulationFault>()
+            .init_resource::<UpdateCount>()
             .add_systems(Update, save_snapshot.after(SandboxSystems::Simulate));
     }
 }
@@ -47,7 +47,7 @@ impl Plugin for SnapshotSavePlugin {
 fn save_snapshot(
     mut save: ResMut<SnapshotSave>,
     state: Res<SandboxState>,
-    fault: Res<SimulationFault>,
+    updates: Res<UpdateCount>,
     physics: Res<SimulationSettings>,
     next_id: Res<NextBodyId>,
     queue: Res<EventQueue>,
@@ -58,7 +58,7 @@ fn save_snapshot(
         let outcome = check_new("save", &path, "choose another name: saves never overwrite")
             .map_err(|e| e.to_string())
             .and_then(|()| {
-                write_atomically(&path, |w| write_session(&session, fault.updates, w)).map_err(|e| e.to_string())
+                write_atomically(&path, |w| write_session(&session, updates.0, w)).map_err(|e| e.to_string())
             })
             .map(|()| {
                 format!(
@@ -74,10 +74,10 @@ fn save_snapshot(
     };
     let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
     states.sort_unstable_by_key(|b| b.id);
-    let pending = queue.pending(fault.updates, &states, next_id.0);
+    let pending = queue.pending(updates.0, &states, next_id.0);
     let snapshot = Snapshot {
         name: &state.scenario.name,
-        updates: fault.updates,
+        updates: updates.0,
         settings: &physics,
         bodies: &states,
         next_id: next_id.0,

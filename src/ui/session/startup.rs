@@ -67,7 +67,7 @@ impl Start {
         if let Some(vsync) = options.vsync {
             settings.vsync = vsync;
         }
-        settings.set_execution(options.execution.or(settings.execution()));
+        settings.execution = options.execution.or(settings.execution);
         if let Some(ups) = options.ups {
             settings.updates_per_second = ups;
         }
@@ -220,16 +220,17 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&settings_path).unwrap(), text);
 
         // The user changes the threads in the panel: only they are saved.
-        let changed = SandboxSettings { threads: 2, ..settings };
+        let mut changed = settings;
+        changed.execution.threads = Some(2);
         assert_eq!(file.save_if_changed(&changed).unwrap(), ["threads"]);
         let (_, saved, _) = super::super::settings_file::load_settings(&settings_path);
-        let expected = SandboxSettings {
-            threads: 2,
-            seed: 11,
-            shatter_fragments: 3,
+        let mut expected = SandboxSettings {
             render_method: DrawMethod::SharedMesh,
             ..SandboxSettings::default()
         };
+        expected.execution.threads = Some(2);
+        expected.physics.seed = 11;
+        expected.physics.shatter_fragments = 3;
         assert_eq!(
             saved,
             Some(expected),

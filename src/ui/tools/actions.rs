@@ -16,7 +16,7 @@ use crate::components::{BodyId, BodyState, BodyStateQuery, GravityRole, Mass};
 use crate::maths;
 use crate::resources::SimulationSettings;
 use crate::scenario::{Body, Breakup, Event, Fire, Remove, Shape, Spawn, Template};
-use crate::systems::SimulationFault;
+use crate::systems::UpdateCount;
 use crate::timed_events::{EventLog, EventQueue, Queued, record_event};
 use crate::ui::session::{SandboxState, SnapshotSave};
 use crate::ui::view::{MainCamera, Selection};
@@ -85,7 +85,7 @@ pub fn apply_tool_actions(world: &mut World) {
 /// One action: the event it makes, recorded and applied at once (or the
 /// rewind, or the selection); why not, if it cannot.
 fn apply_action(world: &mut World, action: &ToolAction) -> Result<(), String> {
-    let update = world.resource::<SimulationFault>().updates;
+    let update = world.resource::<UpdateCount>().0;
     let event = match *action {
         ToolAction::Launch {
             altitude,

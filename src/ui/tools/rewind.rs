@@ -11,7 +11,7 @@ use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState, BodyStateQuery, spawn_states};
 use crate::resources::{NextBodyId, SimulationSettings};
-use crate::systems::{Absorbed, CollisionStats, NextEventAt, OverlappingPairs, SimulationFault};
+use crate::systems::{Absorbed, CollisionStats, NextEventAt, OverlappingPairs, SimulationFault, UpdateCount};
 use crate::timed_events::{EventLog, EventQueue};
 use crate::ui::session::{SandboxSettings, SandboxState};
 
@@ -88,7 +88,7 @@ impl Checkpoints {
 /// actions and updates).
 pub fn take_checkpoints(world: &mut World) {
     let generation = world.resource::<SandboxState>().generation;
-    let updates = world.resource::<SimulationFault>().updates;
+    let updates = world.resource::<UpdateCount>().0;
     let checkpoints = world.resource::<Checkpoints>();
     let stale = checkpoints.generation != generation;
     let due = checkpoints
@@ -124,7 +124,7 @@ pub fn take_checkpoints(world: &mut World) {
 /// first one, at the scene's start, if there is none before), dropping the
 /// events recorded since, and the checkpoints after it.
 pub fn rewind(world: &mut World) -> Result<(), String> {
-    let updates = world.resource::<SimulationFault>().updates;
+    let updates = world.resource::<UpdateCount>().0;
     let mut checkpoints = world.resource_mut::<Checkpoints>();
     let index = checkpoints.index_for(updates).ok_or("rewind: no checkpoint yet")?;
     while checkpoints.list.len() > index + 1 {
@@ -143,9 +143,8 @@ pub fn rewind(world: &mut World) -> Result<(), String> {
     world.insert_resource(checkpoint.absorbed);
     world.insert_resource(checkpoint.log);
     world.resource_mut::<OverlappingPairs>().0.clear();
-    let mut fault = world.resource_mut::<SimulationFault>();
-    fault.clear();
-    fault.updates = checkpoint.updates;
+    world.resource_mut::<SimulationFault>().clear();
+    world.insert_resource(UpdateCount(checkpoint.updates));
     let mut queue = world.resource_mut::<EventQueue>();
     queue.rewind(checkpoint.updates);
     let next = queue.next_at();
@@ -225,7 +224,7 @@ mod tests {
         record_event(&mut rewound, Event::Remove(Remove { update: 1000, body: 20 }));
         assert_eq!(rewound.resource::<Checkpoints>().target(1000), Some(600));
         rewind(&mut rewound).unwrap();
-        assert_eq!(rewound.resource::<SimulationFault>().updates, 600);
+        assert_eq!(rewound.resource::<UpdateCount>().0, 600);
         assert_eq!(rewound.resource::<SimulationSettings>().shatter_threshold, 3.0);
         run(&mut rewound, 700);
         let straight_state = state(&mut straight);

@@ -14,7 +14,7 @@ use crate::input::{InputError, load_ron};
 use crate::output::write_atomically;
 use crate::record::StateHash;
 use crate::resources::NextBodyId;
-use crate::systems::SimulationFault;
+use crate::systems::UpdateCount;
 use crate::ui::measure::FrameStats;
 use crate::ui::session::OutputFailures;
 
@@ -63,7 +63,7 @@ pub struct DumpAtClose(pub PathBuf);
 pub fn dump_at_close(
     mut exits: MessageReader<AppExit>,
     dump: Res<DumpAtClose>,
-    fault: Res<SimulationFault>,
+    updates: Res<UpdateCount>,
     next_id: Res<NextBodyId>,
     bodies: Query<BodyStateQuery>,
     failures: Res<OutputFailures>,
@@ -77,7 +77,7 @@ pub fn dump_at_close(
     match write_atomically(&dump.0, |w| crate::record::write_csv(&states, w)) {
         Ok(()) => println!(
             "kessler: closed after {} updates of the scene; state hash {hash}; state written to {}",
-            fault.updates,
+            updates.0,
             dump.0.display()
         ),
         Err(e) => failures.failed(format_args!("--dump {e}")),
