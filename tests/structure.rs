@@ -564,7 +564,7 @@ const LADDERS: &[(&str, &[&str])] = &[
     (
         "crate::ui",
         &[
-            "app", "plugins", "overlay", "tools", "measure", "draw", "view", "session", "sets",
+            "app", "plugins", "overlay", "tools", "measure", "draw", "view", "widgets", "session", "sets",
         ],
     ),
     (
@@ -687,7 +687,7 @@ const LADDERS: &[(&str, &[&str])] = &[
             "field_checks",
         ],
     ),
-    ("crate::simulation", &["headless_run", "timeline"]),
+    ("crate::simulation", &["headless_run", "timeline", "spawn"]),
     (
         "crate::systems::pipeline",
         &[
@@ -729,7 +729,11 @@ const LADDERS: &[(&str, &[&str])] = &[
         "crate::ui::measure",
         &["film", "capture", "frame_stats", "gpu_memory", "picture", "pipelines"],
     ),
-    ("crate::ui::overlay", &["hud", "panel", "cascade", "widgets"]),
+    ("crate::ui::overlay", &["hud", "panel", "cascade"]),
+    (
+        "crate::ui::overlay::panel",
+        &["run", "execution", "physics", "scene", "rendering"],
+    ),
     (
         "crate::ui::session",
         &[
@@ -745,7 +749,7 @@ const LADDERS: &[(&str, &[&str])] = &[
             "sandbox_settings",
         ],
     ),
-    ("crate::ui::tools", &["script", "actions", "rewind"]),
+    ("crate::ui::tools", &["panel_section", "script", "actions", "rewind"]),
     ("crate::ui::view", &["camera", "selection", "main_camera"]),
 ];
 

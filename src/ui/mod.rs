@@ -6,8 +6,9 @@
 //! picking) on it; [`draw`] (what is drawn, and how) on both; [`measure`]
 //! (frame times, GPU memory, scripted runs) on `session` and `draw`;
 //! [`tools`] (launch, fire, break up, remove, rewind, scripted actions) on
-//! `session`, `view` and `measure`; [`overlay`] (the egui panel and HUD)
-//! on `session`, `view`, `measure` and `tools`.
+//! `session`, `view` and `measure`, and its panel section on [`widgets`]
+//! (the panel's number fields); [`overlay`] (the egui panel and HUD) on
+//! `session`, `view`, `measure`, `tools` and `widgets`.
 //! The simulation itself is the same headless core (`crate::systems`),
 //! driven at a chosen update rate.
 //!
@@ -29,6 +30,7 @@ pub mod session;
 pub mod sets;
 pub mod tools;
 pub mod view;
+pub mod widgets;
 
 pub use crate::resources::DrawMethod;
 pub use app::run;

@@ -1,12 +1,10 @@
-//! The egui overlay: the settings panel on the left (with its number
-//! widgets) and the HUD over the view, and the cascade they show (the
+//! The egui overlay: the settings panel on the left and the HUD over the view, and the cascade they show (the
 //! Kessler curve and the totals). It reads the session, the view's
 //! selection and the frame statistics.
 
 pub mod cascade;
 pub mod hud;
 pub mod panel;
-pub mod widgets;
 
 pub use cascade::CascadePlugin;
 pub use hud::HudPlugin;

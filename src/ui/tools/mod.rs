@@ -6,6 +6,7 @@
 //! [`ToolAction`]s.
 
 mod actions;
+mod panel_section;
 mod rewind;
 mod script;
 
@@ -13,6 +14,7 @@ use bevy::prelude::*;
 use bevy_egui::input::EguiWantsInput;
 
 pub use actions::{ToolAction, apply_tool_actions, ring};
+pub use panel_section::tools_section;
 pub use rewind::{CHECKPOINT_BYTES, CHECKPOINT_EVERY, Checkpoints, rewind, take_checkpoints};
 pub use script::{ActionScript, DumpAtClose, ScriptedAction, dump_at_close, send_scripted_actions};
 
