@@ -110,16 +110,16 @@ pub fn fragments_for(a: &BodyState, b: &BodyState, settings: &SimulationSettings
     let (count, spread, seed) = (settings.shatter_fragments, settings.fragment_spread, settings.seed);
     match settings.fragment_sizes {
         FragmentSizes::Equal => fragments(a, b, count, spread, seed, first_id),
-        FragmentSizes::PowerLaw { exponent } => power_law_fragments(
-            a,
-            b,
-            count,
-            exponent,
-            settings.min_fragment_size,
-            spread,
-            seed,
-            first_id,
-        ),
+        FragmentSizes::PowerLaw { exponent } => {
+            let law = PowerLaw {
+                count,
+                exponent,
+                min_size: settings.min_fragment_size,
+                spread,
+                seed,
+            };
+            power_law_fragments(a, b, law, first_id)
+        }
     }
 }
 
@@ -167,23 +167,36 @@ pub fn power_law_halves(
     halves
 }
 
+/// What a power-law shatter takes from the settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PowerLaw {
+    /// The most fragments (`shatter_fragments`).
+    pub count: u32,
+    /// The law's exponent α (`fragment_sizes`).
+    pub exponent: f32,
+    /// The smallest edge (`min_fragment_size`; 0: a hundredth of the
+    /// larger parent's).
+    pub min_size: f32,
+    /// The fragments' spread (`fragment_spread`).
+    pub spread: f32,
+    /// The seed of their random choices (`seed`).
+    pub seed: u64,
+}
+
 /// Kernel: the fragments of `a` and `b` with edge lengths from the power
 /// law of the NASA standard breakup model ([`power_law_halves`]):
 /// between `min_size` (a hundredth of the larger parent's edge where it is
 /// 0) and the larger parent's edge, at most `count` of them; each
 /// fragment's mass in proportion to its volume; momentum kept; placed as
 /// [`fragments`] places them, apart by the largest.
-#[expect(clippy::too_many_arguments, reason = "a kernel's inputs, each a setting")]
-pub fn power_law_fragments(
-    a: &BodyState,
-    b: &BodyState,
-    count: u32,
-    exponent: f32,
-    min_size: f32,
-    spread: f32,
-    seed: u64,
-    first_id: BodyId,
-) -> Vec<BodyState> {
+pub fn power_law_fragments(a: &BodyState, b: &BodyState, law: PowerLaw, first_id: BodyId) -> Vec<BodyState> {
+    let PowerLaw {
+        count,
+        exponent,
+        min_size,
+        spread,
+        seed,
+    } = law;
     let (volume, largest) = volumes(a, b);
     let floor = if min_size > 0.0 {
         f64::from(min_size) / 2.0
@@ -510,7 +523,18 @@ mod tests {
     fn power_law_fragments_keep_mass_volume_and_momentum_apart() {
         let (a, b) = law_pair(3);
         for (count, min_size) in [(2, 1.0), (5, 0.0), (40, 0.5), (300, 0.2)] {
-            let f = power_law_fragments(&a, &b, count, 1.71, min_size, 0.2, 9, BodyId(50));
+            let f = power_law_fragments(
+                &a,
+                &b,
+                PowerLaw {
+                    count,
+                    exponent: 1.71,
+                    min_size,
+                    spread: 0.2,
+                    seed: 9,
+                },
+                BodyId(50),
+            );
             assert!(
                 (1..=count as usize).contains(&f.len()),
                 "{} of at most {count}",
@@ -548,8 +572,30 @@ mod tests {
             assert!(f.iter().enumerate().all(|(i, x)| x.id == BodyId(50 + i as u64)));
         }
         assert_eq!(
-            power_law_fragments(&a, &b, 40, 1.71, 0.5, 0.2, 9, BodyId(50)),
-            power_law_fragments(&a, &b, 40, 1.71, 0.5, 0.2, 9, BodyId(50)),
+            power_law_fragments(
+                &a,
+                &b,
+                PowerLaw {
+                    count: 40,
+                    exponent: 1.71,
+                    min_size: 0.5,
+                    spread: 0.2,
+                    seed: 9
+                },
+                BodyId(50)
+            ),
+            power_law_fragments(
+                &a,
+                &b,
+                PowerLaw {
+                    count: 40,
+                    exponent: 1.71,
+                    min_size: 0.5,
+                    spread: 0.2,
+                    seed: 9
+                },
+                BodyId(50)
+            ),
             "the same draws every time"
         );
     }
@@ -567,7 +613,18 @@ mod tests {
             let mut edges = Vec::new();
             for k in 0..100 {
                 let (a, b) = law_pair(10 * k);
-                let f = power_law_fragments(&a, &b, 300, exponent, 0.2, 0.2, 4, BodyId(0));
+                let f = power_law_fragments(
+                    &a,
+                    &b,
+                    PowerLaw {
+                        count: 300,
+                        exponent,
+                        min_size: 0.2,
+                        spread: 0.2,
+                        seed: 4,
+                    },
+                    BodyId(0),
+                );
                 // The last fragment is the rest, not a draw.
                 edges.extend(f[..f.len() - 1].iter().map(|x| 2.0 * f64::from(x.half_extents.x)));
             }

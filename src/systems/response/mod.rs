@@ -14,6 +14,7 @@ mod matching;
 mod outcomes;
 mod swept;
 
+use bevy::ecs::system::SystemParam;
 use bevy::math::DVec3;
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
@@ -25,7 +26,7 @@ pub use swept::{Meeting, contact_states, first_contact, respond_swept};
 
 use crate::components::Absorbs;
 use crate::resources::{CollisionDetection, NextBodyId, SimulationSettings};
-use crate::systems::shatter::{PendingShatters, Reentering};
+use crate::systems::shatter::ShatterQueue;
 use crate::systems::sweep::OverlappingPairs;
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
 use matching::{ContactQuery, find_reentries, match_pairs, swept_matching};
@@ -85,24 +86,47 @@ impl Plugin for ResponsePlugin {
     }
 }
 
-#[expect(
-    clippy::too_many_arguments,
-    reason = "a system: the pairs, the bodies, and what limits and records their outcomes"
-)]
+/// What the response reads besides the bodies: the pairs the broad phase
+/// found, whether any absorber is there, and the next fresh id (which
+/// bounds the shatters).
+#[derive(SystemParam)]
+struct Found<'w, 's> {
+    pairs: Res<'w, OverlappingPairs>,
+    absorbers: Query<'w, 's, (), With<Absorbs>>,
+    next_id: Res<'w, NextBodyId>,
+}
+
+/// What the response records: the mass the absorbers took and the
+/// update's collision statistics.
+#[derive(SystemParam)]
+struct Records<'w> {
+    absorbed: ResMut<'w, Absorbed>,
+    stats: ResMut<'w, CollisionStats>,
+}
+
 fn respond_to_pairs(
     settings: Res<SimulationSettings>,
     mut stage: Stage,
-    pairs: Res<OverlappingPairs>,
-    mut pending: ResMut<PendingShatters>,
-    mut reentering: ResMut<Reentering>,
-    mut absorbed: ResMut<Absorbed>,
-    mut stats: ResMut<CollisionStats>,
-    next_id: Res<NextBodyId>,
+    found: Found,
+    queue: ShatterQueue,
+    records: Records,
     mut busy: Local<HashSet<Entity>>,
-    absorbers: Query<(), With<Absorbs>>,
     mut bodies: ContactQuery,
 ) {
     let clock = stage.start(SimulationSystems::Response);
+    let Found {
+        pairs,
+        absorbers,
+        next_id,
+    } = found;
+    let ShatterQueue {
+        mut pending,
+        mut reentering,
+    } = queue;
+    let Records {
+        mut absorbed,
+        mut stats,
+    } = records;
     pending.0.clear();
     reentering.0.clear();
     if !(settings.stages.collisions && settings.stages.collision_response) {

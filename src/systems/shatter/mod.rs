@@ -4,6 +4,7 @@
 //! fresh ids in pair order, so the result does not depend on how the
 //! response was executed.
 
+use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 
 use crate::components::{BodyId, BodyState};
@@ -33,6 +34,25 @@ pub struct PendingShatters(pub Vec<ShatterPair>);
 #[derive(Resource, Clone, Debug, Default)]
 pub struct Reentering(pub Vec<Entity>);
 
+/// The stage's queue, which the response fills: the pairs to shatter and
+/// the bodies to remove.
+#[derive(SystemParam)]
+pub struct ShatterQueue<'w> {
+    /// The pairs to shatter, in pair order.
+    pub pending: ResMut<'w, PendingShatters>,
+    /// The bodies an absorber took, in pair order.
+    pub reentering: ResMut<'w, Reentering>,
+}
+
+/// What bounds the bodies a shatter may make: the run's memory, the bodies
+/// there are, and where a run that would outgrow it stops.
+#[derive(SystemParam)]
+struct Room<'w, 's> {
+    budget: Res<'w, MemoryBudget>,
+    bodies: Query<'w, 's, (), With<BodyId>>,
+    fault: ResMut<'w, SimulationFault>,
+}
+
 /// Replaces shattered pairs by fragments in [`SimulationSystems::Shatter`].
 pub struct ShatterPlugin;
 
@@ -45,22 +65,24 @@ impl Plugin for ShatterPlugin {
     }
 }
 
-#[expect(
-    clippy::too_many_arguments,
-    reason = "a Bevy system's parameters are its data access"
-)]
 fn shatter(
     settings: Res<SimulationSettings>,
     mut stage: Stage,
-    mut pending: ResMut<PendingShatters>,
-    mut reentering: ResMut<Reentering>,
+    queue: ShatterQueue,
     mut next_id: ResMut<NextBodyId>,
-    budget: Res<MemoryBudget>,
-    bodies: Query<(), With<BodyId>>,
-    mut fault: ResMut<SimulationFault>,
+    room: Room,
     mut commands: Commands,
 ) {
     let clock = stage.start(SimulationSystems::Shatter);
+    let ShatterQueue {
+        mut pending,
+        mut reentering,
+    } = queue;
+    let Room {
+        budget,
+        bodies,
+        mut fault,
+    } = room;
     for entity in reentering.0.drain(..) {
         commands.entity(entity).despawn();
     }

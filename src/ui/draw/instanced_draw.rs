@@ -10,8 +10,8 @@ use std::sync::Arc;
 
 use bevy::asset::{load_internal_asset, uuid_handle};
 use bevy::core_pipeline::core_3d::{Transparent3d, TransparentSortingInfo3d};
-use bevy::ecs::system::SystemParamItem;
 use bevy::ecs::system::lifetimeless::SRes;
+use bevy::ecs::system::{SystemParam, SystemParamItem};
 use bevy::mesh::{MeshVertexBufferLayoutRef, VertexBufferLayout};
 use bevy::pbr::{
     MeshPipeline, MeshPipelineKey, MeshPipelineSystems, RenderMeshInstances, SetMeshBindGroup, SetMeshViewBindGroup,
@@ -116,22 +116,38 @@ fn prepare_body_buffer(
     gpu.slot = Some(slot.clone());
 }
 
-#[expect(
-    clippy::too_many_arguments,
-    reason = "a render system gathers many render-world resources"
-)]
+/// The body pipeline, specialized per mesh and view, and the draw
+/// function that draws with it.
+#[derive(SystemParam)]
+struct Pipelines<'w> {
+    draw_functions: Res<'w, DrawFunctions<Transparent3d>>,
+    pipeline: Res<'w, BodyPipeline>,
+    pipelines: ResMut<'w, SpecializedMeshPipelines<BodyPipeline>>,
+    pipeline_cache: Res<'w, PipelineCache>,
+}
+
+/// The meshes, and which mesh each instanced entity draws.
+#[derive(SystemParam)]
+struct Meshes<'w> {
+    meshes: Res<'w, RenderAssets<RenderMesh>>,
+    mesh_instances: Res<'w, RenderMeshInstances>,
+}
+
 fn queue_bodies(
-    draw_functions: Res<DrawFunctions<Transparent3d>>,
-    pipeline: Res<BodyPipeline>,
-    mut pipelines: ResMut<SpecializedMeshPipelines<BodyPipeline>>,
-    pipeline_cache: Res<PipelineCache>,
-    meshes: Res<RenderAssets<RenderMesh>>,
-    mesh_instances: Res<RenderMeshInstances>,
+    parts: Pipelines,
+    meshes: Meshes,
     bodies: Query<(Entity, &MainEntity), With<InstancedBodies>>,
     mut phases: ResMut<ViewSortedRenderPhases<Transparent3d>>,
     views: Query<&ExtractedView>,
     view_keys: Res<ViewKeyCache>,
 ) {
+    let Pipelines {
+        draw_functions,
+        pipeline,
+        mut pipelines,
+        pipeline_cache,
+    } = parts;
+    let Meshes { meshes, mesh_instances } = meshes;
     let draw = draw_functions.read().id::<DrawBodies>();
     for view in &views {
         let Some(phase) = phases.get_mut(&view.retained_view_entity) else {

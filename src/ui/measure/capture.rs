@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy::render::view::screenshot::ScreenshotCaptured;
 
@@ -174,21 +175,33 @@ type Cubes<'w, 's> = Query<'w, 's, (Option<&'static GravityRole>, Has<Immovable>
 
 /// Counts the frames once the scene is drawn in full, then takes the
 /// screenshot, and ends the app once the pipelines are settled.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "a Bevy system's parameters are its data access"
-)]
+/// What a scripted run asks of the scene before it counts frames: how the
+/// bodies are drawn, the cubes there are and the draws the instanced
+/// pipeline made of them, whether every pipeline is compiled, and the
+/// offscreen image, if it draws into one.
+#[derive(SystemParam)]
+struct Scene<'w, 's> {
+    settings: Res<'w, SandboxSettings>,
+    instanced: Query<'w, 's, &'static InstancedBodies>,
+    cubes: Cubes<'w, 's>,
+    settled: Res<'w, PipelinesSettled>,
+    target: Option<Res<'w, OffscreenTarget>>,
+}
+
 fn scripted_run(
     mut commands: Commands,
     mut run: ResMut<ScriptedRun>,
     stats: Res<FrameStats>,
-    settings: Res<SandboxSettings>,
-    instanced: Query<&InstancedBodies>,
-    cubes: Cubes,
-    target: Option<Res<OffscreenTarget>>,
-    settled: Res<PipelinesSettled>,
+    scene: Scene,
     mut exit: MessageWriter<AppExit>,
 ) {
+    let Scene {
+        settings,
+        instanced,
+        cubes,
+        settled,
+        target,
+    } = scene;
     let settled = settled.get();
     // Only a run still waiting for its first counted frame asks whether the
     // scene is drawn in full: the answer walks every body, which would

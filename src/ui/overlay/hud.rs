@@ -1,6 +1,7 @@
 //! The HUD: frame rate, update rate (target against achieved, dropped),
 //! bodies, pairs, shatters, and per-stage timings with a rolling plot.
 
+use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 
@@ -30,22 +31,45 @@ fn stage_color(rgb: [u8; 3]) -> egui::Color32 {
     egui::Color32::from_rgb(r, g, b)
 }
 
-#[expect(clippy::too_many_arguments, reason = "the HUD shows a little of everything")]
-fn hud(
-    mut contexts: EguiContexts,
-    stats: Res<FrameStats>,
-    clock: Res<UpdateClock>,
-    timings: Res<StageTimings>,
-    collisions: Res<CollisionStats>,
-    settings: Res<SandboxSettings>,
-    state: Res<SandboxState>,
-    file: Res<SettingsFile>,
-    cascade: Res<Cascade>,
-    gravity: Res<GravityInUse>,
-    bodies: Query<(), With<BodyId>>,
-    updates: Res<UpdateCount>,
-) -> Result {
+/// What the HUD shows of the window's session: the settings, the run's
+/// state, the settings file's warnings, the frames and the update clock.
+#[derive(SystemParam)]
+struct Window<'w> {
+    settings: Res<'w, SandboxSettings>,
+    state: Res<'w, SandboxState>,
+    file: Res<'w, SettingsFile>,
+    stats: Res<'w, FrameStats>,
+    clock: Res<'w, UpdateClock>,
+}
+
+/// What the HUD shows of the simulation.
+#[derive(SystemParam)]
+struct Run<'w, 's> {
+    timings: Res<'w, StageTimings>,
+    collisions: Res<'w, CollisionStats>,
+    cascade: Res<'w, Cascade>,
+    gravity: Res<'w, GravityInUse>,
+    bodies: Query<'w, 's, (), With<BodyId>>,
+    updates: Res<'w, UpdateCount>,
+}
+
+fn hud(mut contexts: EguiContexts, window: Window, run: Run) -> Result {
     let ctx = contexts.ctx_mut()?;
+    let Window {
+        settings,
+        state,
+        file,
+        stats,
+        clock,
+    } = window;
+    let Run {
+        timings,
+        collisions,
+        cascade,
+        gravity,
+        bodies,
+        updates,
+    } = run;
     egui::Window::new("HUD")
         .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
         .resizable(false)
