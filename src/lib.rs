@@ -15,14 +15,12 @@
 //! often as you want the simulation to advance. Kessler's update is a
 //! schedule of its own, [`SimulationUpdate`](systems::SimulationUpdate), of
 //! fixed time step: nothing runs it until you do, from `Update`,
-//! `FixedUpdate` or a loop of your own.
+//! `FixedUpdate` or a loop of your own. [`prelude`] brings what this
+//! takes in one import.
 //!
 //! ```
 //! use bevy::prelude::*;
-//! use kessler::components::{BodyState, GravityRole, Immovable, Position};
-//! use kessler::execution::{Execution, ExecutionMode};
-//! use kessler::resources::NextBodyId;
-//! use kessler::systems::{SimulationPlugins, run_updates};
+//! use kessler::prelude::*;
 //!
 //! let mut app = App::new();
 //! app.add_plugins((MinimalPlugins, SimulationPlugins))
@@ -162,6 +160,7 @@ pub mod maths;
 pub mod memory;
 pub mod output;
 pub mod physics;
+pub mod prelude;
 pub mod record;
 pub mod resources;
 pub mod scenario;

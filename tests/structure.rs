@@ -515,6 +515,7 @@ const LADDERS: &[(&str, &[&str])] = &[
     (
         "crate",
         &[
+            "prelude",
             "cli",
             "ui",
             "ensemble",

@@ -571,31 +571,16 @@ mod tests {
             }
             assert!(f.iter().enumerate().all(|(i, x)| x.id == BodyId(50 + i as u64)));
         }
+        let law = PowerLaw {
+            count: 40,
+            exponent: 1.71,
+            min_size: 0.5,
+            spread: 0.2,
+            seed: 9,
+        };
         assert_eq!(
-            power_law_fragments(
-                &a,
-                &b,
-                PowerLaw {
-                    count: 40,
-                    exponent: 1.71,
-                    min_size: 0.5,
-                    spread: 0.2,
-                    seed: 9
-                },
-                BodyId(50)
-            ),
-            power_law_fragments(
-                &a,
-                &b,
-                PowerLaw {
-                    count: 40,
-                    exponent: 1.71,
-                    min_size: 0.5,
-                    spread: 0.2,
-                    seed: 9
-                },
-                BodyId(50)
-            ),
+            power_law_fragments(&a, &b, law, BodyId(50)),
+            power_law_fragments(&a, &b, law, BodyId(50)),
             "the same draws every time"
         );
     }

@@ -1,5 +1,5 @@
 //! The checked fields of scenario files other than the physics settings
-//! (whose rules are the settings list's, [`crate::resources::check`]): each
+//! (whose rules are [`crate::resources::rules`]): each
 //! a `deserialize_with` reader named after its field, built on the shared
 //! checks of [`crate::input`], so that an error names the line, the field
 //! and the rule.

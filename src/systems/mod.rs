@@ -20,23 +20,19 @@ mod sweep;
 use bevy::app::{PluginGroup, PluginGroupBuilder};
 
 pub use gravity::{
-    GROUP_SIZE, GravityColumns, GravityInUse, GravityPlugin, GravitySource, Kernel, LEAF_SIZE, Octree, Pull,
-    PullScratch, REGION_SIZE, Roles, SourceColumns, acceleration_at, add_pulls, collect_sources, gravity_kernel,
-    half_drift, prepare_pull, pull_factor,
+    GravityInUse, GravityPlugin, GravitySource, Kernel, Octree, Pull, PullScratch, Roles, collect_sources,
+    gravity_kernel, prepare_pull,
 };
-pub use integrate::{Drift, IntegrateColumns, IntegratePlugin, integrate_kernel};
+pub use integrate::{Drift, IntegratePlugin, integrate_kernel};
 pub use pipeline::{
-    BetweenUpdates, Fault, MIN_PAIR_LIMIT, NextEventAt, PAIRS_PER_BOX, STAGE_COUNT, STAGES, SchedulePlugin,
-    SimulationFault, SimulationSystems, SimulationUpdate, Stage, StageClock, StageInfo, StageTimings, Timing,
-    TooManyPairs, UpdateCount, first_non_finite, no_fault, pair_limit, run_due_events, run_updates,
+    BetweenUpdates, Fault, NextEventAt, STAGE_COUNT, STAGES, SchedulePlugin, SimulationFault, SimulationSystems,
+    SimulationUpdate, Stage, StageTimings, Timing, UpdateCount, first_non_finite, pair_limit, run_due_events,
+    run_updates,
 };
-pub use response::{
-    Absorbed, CollisionStats, ContactBody, Matched, Meeting, Motion, Outcome, ResponsePlugin, apart_axes,
-    collision_axes, contact_states, elastic, first_contact, refuse_shatters, respond, respond_swept, respond_to_ball,
-};
-pub use shatter::{PendingShatters, Reentering, ShatterPair, ShatterPlugin};
-pub use sort::{BodyColumns, BoxSource, BroadPhaseQuery, SortPlugin, SortedBoxes, TableColumns, sort_boxes, swept_box};
-pub use sweep::{OverlappingPairs, Pair, SweepPlugin, id_pairs, sweep_and_prune, sweep_sorted};
+pub use response::{Absorbed, CollisionStats, ContactBody, ResponsePlugin, refuse_shatters, respond};
+pub use shatter::ShatterPlugin;
+pub use sort::{SortPlugin, SortedBoxes, sort_boxes};
+pub use sweep::{OverlappingPairs, Pair, SweepPlugin, id_pairs, sweep_and_prune};
 
 /// Every simulation stage and the schedule they run in. Needs an
 /// [`Execution`](crate::execution::Execution) resource.

@@ -42,11 +42,9 @@ mod tree;
 mod walk;
 
 pub use kernel::Kernel;
-pub use kick::{
-    GravityColumns, Pull, PullScratch, Roles, SourceColumns, collect_sources, gravity_kernel, half_drift, prepare_pull,
-};
-pub use source::{GravitySource, acceleration_at, add_pulls, pull_factor};
-pub use tree::{GROUP_SIZE, LEAF_SIZE, Octree, REGION_SIZE};
+pub use kick::{Pull, PullScratch, Roles, collect_sources, gravity_kernel, prepare_pull};
+pub use source::GravitySource;
+pub use tree::Octree;
 
 use bevy::prelude::*;
 

@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy::prelude::*;
 
-pub use drift::{Drift, IntegrateColumns, integrate_kernel};
+pub use drift::{Drift, integrate_kernel};
 
 use crate::components::{BodyId, Position, PreviousPosition, Velocity};
 use crate::execution::WorkerPool;

@@ -5,7 +5,7 @@
 //! [`SimulationFault`] with the limits that raise it.
 
 mod fault;
-mod pair_limit;
+pub(in crate::systems) mod pair_limit;
 mod schedule;
 mod stage_clock;
 mod stages;
@@ -13,9 +13,9 @@ mod timings;
 mod update_count;
 
 pub use fault::{Fault, SimulationFault, first_non_finite, no_fault};
-pub use pair_limit::{MIN_PAIR_LIMIT, PAIRS_PER_BOX, TooManyPairs, pair_limit};
+pub use pair_limit::{TooManyPairs, pair_limit};
 pub use schedule::{BetweenUpdates, NextEventAt, SchedulePlugin, SimulationUpdate, run_due_events, run_updates};
-pub use stage_clock::{Stage, StageClock};
-pub use stages::{STAGE_COUNT, STAGES, SimulationSystems, StageInfo};
+pub use stage_clock::Stage;
+pub use stages::{STAGE_COUNT, STAGES, SimulationSystems};
 pub use timings::{StageTimings, Timing};
 pub use update_count::UpdateCount;

@@ -19,10 +19,9 @@ use bevy::math::DVec3;
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
-pub use contact::{ContactBody, Motion, Outcome, apart_axes, collision_axes, elastic, respond, respond_to_ball};
-pub use matching::Matched;
+pub use contact::{ContactBody, Outcome, respond};
 pub use outcomes::refuse_shatters;
-pub use swept::{Meeting, contact_states, first_contact, respond_swept};
+pub use swept::respond_swept;
 
 use crate::components::Absorbs;
 use crate::resources::{CollisionDetection, NextBodyId, SimulationSettings};

@@ -306,11 +306,9 @@ mod tests {
         let a = moving([-10.0, 0.0, 0.0], [10.0, 0.0, 0.0], 1.0);
         let b = moving([0.0, -16.0, 0.0], [0.0, 4.0, 0.0], 1.0);
         assert!(
-            crate::systems::swept_box(a.previous, a.position, a.half_extents).overlaps(&crate::systems::swept_box(
-                b.previous,
-                b.position,
-                b.half_extents
-            ))
+            crate::systems::sort::boxes::swept_box(a.previous, a.position, a.half_extents).overlaps(
+                &crate::systems::sort::boxes::swept_box(b.previous, b.position, b.half_extents)
+            )
         );
         assert_eq!(first_contact(&a, &b), None);
     }
@@ -355,8 +353,11 @@ mod tests {
         // A cube passing the ball through its box's corner region: its
         // nearest point comes within 15·√2 ≈ 21.2 of the center, no nearer.
         let beside = moving([-30.0, 16.0, 16.0], [30.0, 16.0, 16.0], 1.0);
-        let ball_box = crate::systems::swept_box(ball.previous, ball.position, ball.half_extents);
-        assert!(crate::systems::swept_box(beside.previous, beside.position, beside.half_extents).overlaps(&ball_box));
+        let ball_box = crate::systems::sort::boxes::swept_box(ball.previous, ball.position, ball.half_extents);
+        assert!(
+            crate::systems::sort::boxes::swept_box(beside.previous, beside.position, beside.half_extents)
+                .overlaps(&ball_box)
+        );
         assert_eq!(first_contact(&beside, &ball), None);
     }
 }

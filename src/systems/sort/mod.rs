@@ -30,7 +30,7 @@
 //! bodies' table columns in place — each body's box where the update
 //! ends, or swept along its path through the update.
 
-mod boxes;
+pub(in crate::systems) mod boxes;
 mod filing;
 mod grid;
 mod ordering;
@@ -39,7 +39,7 @@ mod sorted_boxes;
 
 use bevy::prelude::*;
 
-pub use boxes::{BodyColumns, BoxSource, BroadPhaseQuery, TableColumns, swept_box};
+pub use boxes::{BodyColumns, BoxSource, BroadPhaseQuery};
 pub use grid::Grid;
 pub use sorted_boxes::{SortedBoxes, sort_boxes};
 

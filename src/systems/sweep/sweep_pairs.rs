@@ -115,7 +115,7 @@ pub fn id_pairs(index_pairs: &[(u32, u32)], ids: &[BodyId]) -> Vec<(BodyId, Body
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::systems::pipeline::MIN_PAIR_LIMIT;
+    use crate::systems::pipeline::pair_limit::MIN_PAIR_LIMIT;
     use bevy::prelude::*;
 
     use crate::execution::{ExecutionMode, SplitPolicy};
