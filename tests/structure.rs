@@ -971,3 +971,28 @@ fn the_architecture_map_lists_the_ladders_as_the_table_has_them() {
     let drawn: Vec<&str> = drawing.lines().filter_map(|l| l.split_whitespace().next()).collect();
     assert_eq!(drawn, LADDERS[0].1, "ARCHITECTURE.md's drawing of the crate's ladder");
 }
+
+/// Most lines of code (its unit tests left out) a file of `src/` may hold
+/// without saying why at its top.
+const LONGEST_FILE: usize = 600;
+
+/// Every file of `src/` longer than [`LONGEST_FILE`] lines of code says why
+/// in its module docs (`//! Longer than 600 lines: …`): a file is one
+/// concern, and a long one is split unless there is a reason.
+#[test]
+fn a_long_file_says_why_it_is_long() {
+    let mut files = Files::new();
+    read_src(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), "", &mut files);
+    let said = format!("//! Longer than {LONGEST_FILE} lines:");
+    let unexplained: Vec<String> = files
+        .values()
+        .filter_map(|(rel, src)| {
+            let code = src.split("\n#[cfg(test)]").next().unwrap_or(src).lines().count();
+            (code > LONGEST_FILE && !src.contains(&said)).then(|| format!("{rel}: {code} lines"))
+        })
+        .collect();
+    assert!(
+        unexplained.is_empty(),
+        "files over {LONGEST_FILE} lines of code that do not say why: {unexplained:?}"
+    );
+}

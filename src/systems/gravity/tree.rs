@@ -13,6 +13,11 @@
 //! adds in the same order: the result does not depend on how the bodies are
 //! split among threads. With `θ = 0` no node is summed as a whole and the
 //! tree gives the direct sum, in another order.
+//!
+//! Longer than 600 lines: `impl Octree` is kept whole in this file (the
+//! build, the moments, the node test the walks share), the walks being
+//! functions of `&Octree` in `walk.rs` (ARCHITECTURE.md, "Gravity's
+//! ladder").
 
 use bevy::math::DVec3;
 use bevy::prelude::*;
