@@ -222,7 +222,7 @@ pub fn half_drift(position: Vec3, velocity: Vec3, half: f32) -> Vec3 {
 /// - `SemiImplicitEuler` (the thesis): `a` at the position, which stays;
 ///   the integrate stage then drifts a whole step.
 /// - `Leapfrog`: every body first drifts half a step
-///   ([`half_drift`]), keeping its position as the previous one, and `a`
+///   (`half_drift`), keeping its position as the previous one, and `a`
 ///   is the pull at that midpoint (the sources placed there by
 ///   [`collect_sources`]); the integrate stage drifts the second half.
 pub fn gravity_kernel(
@@ -302,7 +302,7 @@ pub type SourceColumns<'a> = (
 
 /// The sources among the bodies in `tables`, sorted by id so the sum order
 /// is fixed, where `integrator` evaluates the pull: at their positions, or
-/// for the leapfrog half a drift on ([`half_drift`]). Only the role column
+/// for the leapfrog half a drift on (`half_drift`). Only the role column
 /// is read for every body (sources are few).
 pub fn collect_sources<'a>(
     tables: impl Iterator<Item = SourceColumns<'a>>,

@@ -20,7 +20,7 @@ pub struct Stage<'w> {
 
 impl Stage<'_> {
     /// Starts `stage`'s clock. The time counts only once
-    /// [`StageClock::finish`] is called: a stage that returns early (switched
+    /// `StageClock::finish` is called: a stage that returns early (switched
     /// off) records no sample, as no work was done.
     pub fn start(&mut self, stage: SimulationSystems) -> StageClock<'_> {
         StageClock {
