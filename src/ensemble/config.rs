@@ -415,6 +415,10 @@ mod tests {
                 "field `threads`: must be between 1 and 256",
             ),
             (
+                "Ensemble(steps: 1, members: 1, threads: 1)",
+                "the execution options are grouped now: write `execution: (threads: …)`",
+            ),
+            (
                 "Ensemble(steps: 1, members: 1, every: 0)",
                 "field `every`: must be between 1",
             ),
