@@ -105,10 +105,10 @@ fn tiny_config(dir: &Path) -> PathBuf {
         &path,
         format!(
             r#"Bench(scenario: "{scenario}", runs: [
-                Run(bodies: 50, updates: 5, execution: (mode: Sequential)),
-                Run(bodies: 50, updates: 5, execution: (mode: Parallel, threads: 1, split: Always)),
-                Run(bodies: 500, updates: 3, execution: (mode: Parallel, threads: 2), stages: (collisions: false),
-                    settings: (seed: 7, shatter_fragments: 3, shatter_threshold: 2.5)),
+                Run(bodies: 50, updates: 5, mode: Sequential),
+                Run(bodies: 50, updates: 5, mode: Parallel, threads: 1, split: Always),
+                Run(bodies: 500, updates: 3, mode: Parallel, threads: 2, stages: (collisions: false),
+                    seed: 7, shatter_fragments: 3, shatter_threshold: 2.5),
             ])"#
         ),
     )
@@ -340,8 +340,8 @@ fn repeated_passes_measure_every_run_each_time_and_write_one_row_per_run() {
         &config,
         format!(
             r#"Bench(scenario: "{scenario}", repeat: 3, runs: [
-                Run(bodies: 40, updates: 4, execution: (mode: Sequential)),
-                Run(bodies: 40, updates: 4, execution: (mode: Parallel, threads: 2)),
+                Run(bodies: 40, updates: 4, mode: Sequential),
+                Run(bodies: 40, updates: 4, mode: Parallel, threads: 2),
             ])"#
         ),
     )
@@ -405,7 +405,7 @@ fn the_crossover_names_where_always_beats_sequential_and_marks_the_plot() {
             "mode: Parallel, threads: 2, split: Always",
             "mode: Parallel, threads: 2",
         ] {
-            runs.push_str(&format!("Run(bodies: {bodies}, updates: 3, execution: ({run})),\n"));
+            runs.push_str(&format!("Run(bodies: {bodies}, updates: 3, {run}),\n"));
         }
     }
     std::fs::write(
@@ -507,4 +507,30 @@ fn render_runs_need_the_window_build() {
         1,
         "only the config is there"
     );
+}
+
+/// Every config shipped in `benches/` loads as the docs write configs:
+/// flat execution options and settings beside a run's own fields. A
+/// build without the window refuses only the window's `Render` runs.
+#[test]
+fn the_shipped_configs_load() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "ron") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        if !text.contains("Bench(") {
+            continue; // a scenario kept beside the configs
+        }
+        match kessler::bench::BenchConfig::load(&path) {
+            Ok(config) => assert!(!config.runs.is_empty(), "{}", path.display()),
+            Err(e) if !kessler::WINDOW_BUILD && e.to_string().contains("`Render` runs open the window") => {}
+            Err(e) => panic!("{e}"),
+        }
+        checked += 1;
+    }
+    assert!(checked >= 7, "{checked} configs in {}", dir.display());
 }

@@ -39,8 +39,7 @@ fn config(dir: &Path, name: &str, fields: &str) -> PathBuf {
 }
 
 /// A small ensemble: two thresholds, three members each, 60 updates.
-const SMALL: &str =
-    "steps: 60, every: 10, members: 3, seed: 5, vary: (shatter_threshold: [2.0, 4.0]), execution: (threads: 1)";
+const SMALL: &str = "steps: 60, every: 10, members: 3, seed: 5, vary: (shatter_threshold: [2.0, 4.0]), threads: 1";
 
 /// `kessler ensemble CONFIG --out OUT ARGS...`, run to its end.
 fn ensemble(config: &Path, out: &Path, args: &[&str]) -> std::process::Output {
@@ -324,7 +323,7 @@ fn signal(pid: u32, name: &str) {
 }
 
 /// Members that take a second or two each.
-const SLOW: &str = "steps: 1500, every: 100, members: 3, seed: 9, execution: (threads: 1)";
+const SLOW: &str = "steps: 1500, every: 100, members: 3, seed: 9, threads: 1";
 
 #[cfg(target_os = "linux")]
 #[test]
@@ -636,11 +635,7 @@ fn sbatch_refusing_the_job_is_one_clear_line() {
 #[test]
 fn aggregate_replaces_only_regular_files() {
     let tmp = tempfile::tempdir().unwrap();
-    let cfg = config(
-        tmp.path(),
-        "one.ron",
-        "steps: 20, every: 10, members: 1, execution: (threads: 1)",
-    );
+    let cfg = config(tmp.path(), "one.ron", "steps: 20, every: 10, members: 1, threads: 1");
     let out = tmp.path().join("ens");
     let run = ensemble(&cfg, &out, &[]);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
@@ -791,4 +786,20 @@ fn a_file_for_a_folder_and_a_misspelt_subcommand_are_named() {
         assert_eq!(out.status.code(), Some(2));
         assert_one_clear_line(&out.stderr, &[&format!("did you mean `kessler ensemble {meant}`?")]);
     }
+}
+
+/// Every ensemble shipped in `ensembles/` loads as the docs write them.
+#[test]
+fn the_shipped_ensembles_load() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("ensembles");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "ron") {
+            let config = kessler::ensemble::EnsembleConfig::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            assert!(config.total_members() > 0, "{}", path.display());
+            checked += 1;
+        }
+    }
+    assert!(checked >= 2, "{checked} ensembles in {}", dir.display());
 }

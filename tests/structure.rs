@@ -641,6 +641,7 @@ const LADDERS: &[(&str, &[&str])] = &[
             "user_files",
             "limits",
             "ron_text",
+            "struct_fields",
             "value_checks",
             "error",
         ],

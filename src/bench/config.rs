@@ -4,12 +4,15 @@
 use std::path::{Path, PathBuf};
 
 use ron::extensions::Extensions;
+use serde::de::{MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
 use crate::WINDOW_BUILD;
 use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
-use crate::input::{ExecutionOptions, InputError, body_count, load_ron, read, whole_between};
-use crate::resources::{DrawMethod, SettingsPatch, Stages};
+use crate::input::{
+    ExecutionOptions, InputError, body_count, load_ron, read, read_fields, require, unknown_field, whole_between,
+};
+use crate::resources::{DrawMethod, SettingsPatch, Stages, unknown_setting};
 use crate::scenario::{MAX_BODIES, Scenario};
 
 /// A benchmark: runs of one scenario at several sizes and execution modes.
@@ -102,29 +105,61 @@ fn one_pass() -> u32 {
     1
 }
 
-/// One measured run; how it executes: its own `execution`, else the
-/// command line's (`kessler bench --split …`), else the defaults (parallel
-/// on every hardware thread, split `auto`).
-#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, rename = "Run")]
+/// One measured run; how it executes: its own `mode`, `threads`, `split`
+/// and `pool`, else the command line's (`kessler bench --split …`), else
+/// the defaults (parallel on every hardware thread, split `auto`). In a
+/// file its execution options and physics settings stand flat beside its
+/// own fields: `Run(bodies: 1000, updates: 50, mode: Sequential, seed: 5)`.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Run {
     /// Generated bodies (the scenario's explicit bodies, e.g. the planet,
     /// come on top), shared among its generators in proportion.
-    #[serde(deserialize_with = "bodies")]
     pub bodies: u64,
     /// Updates to run and average over.
-    #[serde(deserialize_with = "updates")]
     pub updates: u64,
     /// Which stages are on (default: all).
-    #[serde(default)]
     pub stages: Stages,
     /// This run's own values of physics settings, laid over the
-    /// scenario's: `settings: (seed: 5, shatter_threshold: 2.0)`.
-    #[serde(default)]
+    /// scenario's: `seed: 5, shatter_threshold: 2.0` (any setting a
+    /// scenario file takes, by its name there).
     pub settings: SettingsPatch,
-    /// How it executes; what it leaves out, the command line decides.
-    #[serde(default)]
+    /// How it executes (`mode`, `threads`, `split`, `pool`); what it
+    /// leaves out, the command line decides.
     pub execution: ExecutionOptions,
+}
+
+/// [`Run`]'s own fields in a file.
+const RUN_FIELDS: [&str; 3] = ["bodies", "updates", "stages"];
+
+impl<'de> Deserialize<'de> for Run {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct RunVisitor;
+        impl<'de> Visitor<'de> for RunVisitor {
+            type Value = Run;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a Run(bodies: …, updates: …)")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Run, A::Error> {
+                let mut run = Run::default();
+                let seen = read_fields(
+                    map,
+                    |key, map| {
+                        match key {
+                            "bodies" => run.bodies = map.next_value::<Bodies>()?.0,
+                            "updates" => run.updates = map.next_value::<Updates>()?.0,
+                            "stages" => run.stages = map.next_value()?,
+                            _ => return Ok(run.execution.read_field(key, map)? || run.settings.read_field(key, map)?),
+                        }
+                        Ok(true)
+                    },
+                    |key| unknown_setting(key, &[&RUN_FIELDS[..], &ExecutionOptions::FIELDS].concat()),
+                )?;
+                require(&seen, &["bodies", "updates"])?;
+                Ok(run)
+            }
+        }
+        d.deserialize_struct("Run", &RUN_FIELDS, RunVisitor)
+    }
 }
 
 impl Run {
@@ -138,39 +173,98 @@ impl Run {
 }
 
 /// A run that opens the window and measures frames (the thesis's
-/// Tables 1–3 and 5); its simulation executes as its `execution` says,
-/// else as the saved settings do.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, rename = "Render")]
+/// Tables 1–3 and 5); its simulation executes as its `mode`, `threads`,
+/// `split` and `pool` say, else as the saved settings do.
+#[derive(Clone, Debug, PartialEq)]
 pub struct RenderRun {
     /// Generated bodies, as in [`Run::bodies`].
-    #[serde(deserialize_with = "bodies")]
     pub bodies: u64,
     /// Frames to measure (after a short warm-up that is not measured).
-    #[serde(deserialize_with = "frames")]
     pub frames: u64,
     /// How the bodies are drawn.
     pub method: DrawMethod,
     /// Whether the simulation runs while drawing (default: paused, to
     /// measure drawing alone).
-    #[serde(default)]
     pub simulate: bool,
     /// Target updates per second of the simulation (default 60).
-    #[serde(default, deserialize_with = "ups")]
     pub ups: Option<u32>,
     /// Wait for the display's refresh (default off: as fast as possible,
     /// as the thesis measured).
-    #[serde(default)]
     pub vsync: bool,
     /// Draw into an image instead of a window (`kessler run --offscreen`):
     /// no display needed, as on a GPU server (default off).
-    #[serde(default)]
     pub offscreen: bool,
-    /// How its simulation executes; what it leaves out, the saved
-    /// settings decide.
-    #[serde(default)]
+    /// How its simulation executes (`mode`, `threads`, `split`, `pool`,
+    /// flat in the file); what it leaves out, the saved settings decide.
     pub execution: ExecutionOptions,
 }
+
+/// [`RenderRun`]'s own fields in a file.
+const RENDER_FIELDS: [&str; 7] = ["bodies", "frames", "method", "simulate", "ups", "vsync", "offscreen"];
+
+impl<'de> Deserialize<'de> for RenderRun {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct RenderVisitor;
+        impl<'de> Visitor<'de> for RenderVisitor {
+            type Value = RenderRun;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a Render(bodies: …, frames: …, method: …)")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<RenderRun, A::Error> {
+                let mut run = RenderRun {
+                    bodies: 0,
+                    frames: 0,
+                    method: DrawMethod::default(),
+                    simulate: false,
+                    ups: None,
+                    vsync: false,
+                    offscreen: false,
+                    execution: ExecutionOptions::default(),
+                };
+                let seen = read_fields(
+                    map,
+                    |key, map| {
+                        match key {
+                            "bodies" => run.bodies = map.next_value::<Bodies>()?.0,
+                            "frames" => run.frames = map.next_value::<Frames>()?.0,
+                            "method" => run.method = map.next_value()?,
+                            "simulate" => run.simulate = map.next_value()?,
+                            "ups" => run.ups = Some(map.next_value::<Ups>()?.0),
+                            "vsync" => run.vsync = map.next_value()?,
+                            "offscreen" => run.offscreen = map.next_value()?,
+                            _ => return run.execution.read_field(key, map),
+                        }
+                        Ok(true)
+                    },
+                    |key| unknown_field(key, &[&RENDER_FIELDS[..], &ExecutionOptions::FIELDS].concat()),
+                )?;
+                require(&seen, &["bodies", "frames", "method"])?;
+                Ok(run)
+            }
+        }
+        d.deserialize_struct("Render", &RENDER_FIELDS, RenderVisitor)
+    }
+}
+
+/// A checked `bodies` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Bodies(#[serde(deserialize_with = "bodies")] u64);
+
+/// A checked `updates` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Updates(#[serde(deserialize_with = "updates")] u64);
+
+/// A checked `frames` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Frames(#[serde(deserialize_with = "frames")] u64);
+
+/// A checked `ups` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Ups(#[serde(deserialize_with = "ups")] u32);
 
 fn repeat<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
     whole_between(d, "repeat", 1, MAX_REPEAT)
@@ -188,8 +282,8 @@ fn frames<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
     whole_between(d, "frames", 1, 1_000_000)
 }
 
-fn ups<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
-    whole_between(d, "ups", 1, 600).map(Some)
+fn ups<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    whole_between(d, "ups", 1, 600)
 }
 
 impl BenchConfig {

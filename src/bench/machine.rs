@@ -23,8 +23,8 @@ pub struct Reference {
     pub file: &'static str,
     /// The scenario's text, built in.
     text: &'static str,
-    /// Physics settings laid over the scenario's, as a benchmark run's
-    /// `settings: (…)` writes them (`()`: none).
+    /// Physics settings laid over the scenario's, as a `Set` event
+    /// writes them: `(seed: 5)` (`()`: none).
     pub settings: &'static str,
     /// Updates run.
     pub updates: u64,

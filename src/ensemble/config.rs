@@ -12,7 +12,10 @@ use serde::ser::{SerializeSeq, SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use crate::execution::ExecutionMode;
-use crate::input::{ExecutionOptions, FieldName, InputError, MAX_UPDATES, parse_ron, read_text, whole_between};
+use crate::input::{
+    ExecutionOptions, FieldName, InputError, MAX_UPDATES, parse_ron, read_fields, read_text, require, unknown_field,
+    whole_between,
+};
 use crate::resources::{self as physics, SimulationSettings, settings};
 
 /// Most members one ensemble may have, over all its combinations.
@@ -20,34 +23,93 @@ pub const MAX_MEMBERS: u64 = 1_000_000;
 
 /// An ensemble: `members` runs of one scenario for every combination of
 /// the varied settings, each with a seed of its own. Each member executes
-/// as its `execution` says (results are the same either way), else as
-/// [`MEMBER_EXECUTION`] does.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields, rename = "Ensemble")]
+/// as its `mode`, `threads`, `split` and `pool` say (results are the same
+/// either way), else as [`MEMBER_EXECUTION`] does. In a file the execution
+/// options stand flat beside the other fields:
+/// `Ensemble(steps: 100, members: 8, mode: Sequential)`.
+#[derive(Clone, Debug, PartialEq)]
 pub struct EnsembleConfig {
     /// The scenario, relative to the config's folder; the built-in default
     /// scene if omitted.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scenario: Option<PathBuf>,
     /// Updates each member runs.
-    #[serde(deserialize_with = "steps")]
     pub steps: u64,
-    /// Updates between two timeline rows (and a row after the last).
-    #[serde(default = "default_every", deserialize_with = "every")]
+    /// Updates between two timeline rows (and a row after the last;
+    /// default 100).
     pub every: u64,
     /// Members per combination of settings.
-    #[serde(deserialize_with = "members")]
     pub members: u64,
-    /// The ensemble's own seed, from which every member's is mixed.
-    #[serde(default = "default_seed", deserialize_with = "seed")]
+    /// The ensemble's own seed, from which every member's is mixed
+    /// (default 1).
     pub seed: u64,
     /// Physics settings to vary: every combination of their values.
-    #[serde(default, skip_serializing_if = "Vary::is_empty")]
     pub vary: Vary,
     /// How each member executes; what it leaves out, [`MEMBER_EXECUTION`]
     /// gives.
-    #[serde(default, skip_serializing_if = "ExecutionOptions::is_empty")]
     pub execution: ExecutionOptions,
+}
+
+/// [`EnsembleConfig`]'s own fields in a file, in the order it is written.
+const OWN: [&str; 6] = ["scenario", "steps", "every", "members", "seed", "vary"];
+
+impl<'de> Deserialize<'de> for EnsembleConfig {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct EnsembleVisitor;
+        impl<'de> Visitor<'de> for EnsembleVisitor {
+            type Value = EnsembleConfig;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("an Ensemble(steps: …, members: …)")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<EnsembleConfig, A::Error> {
+                let mut config = EnsembleConfig {
+                    scenario: None,
+                    steps: 0,
+                    every: 100,
+                    members: 0,
+                    seed: 1,
+                    vary: Vary::default(),
+                    execution: ExecutionOptions::default(),
+                };
+                let seen = read_fields(
+                    map,
+                    |key, map| {
+                        match key {
+                            "scenario" => config.scenario = Some(map.next_value()?),
+                            "steps" => config.steps = map.next_value::<Steps>()?.0,
+                            "every" => config.every = map.next_value::<Every>()?.0,
+                            "members" => config.members = map.next_value::<Members>()?.0,
+                            "seed" => config.seed = map.next_value::<Seed>()?.0,
+                            "vary" => config.vary = map.next_value()?,
+                            _ => return config.execution.read_field(key, map),
+                        }
+                        Ok(true)
+                    },
+                    |key| unknown_field(key, &[&OWN[..], &ExecutionOptions::FIELDS].concat()),
+                )?;
+                require(&seen, &["steps", "members"])?;
+                Ok(config)
+            }
+        }
+        d.deserialize_struct("Ensemble", &OWN, EnsembleVisitor)
+    }
+}
+
+impl Serialize for EnsembleConfig {
+    fn serialize<S: Serializer>(&self, out: S) -> Result<S::Ok, S::Error> {
+        let mut s = out.serialize_struct("Ensemble", OWN.len() + ExecutionOptions::FIELDS.len())?;
+        if let Some(scenario) = &self.scenario {
+            s.serialize_field("scenario", scenario)?;
+        }
+        s.serialize_field("steps", &self.steps)?;
+        s.serialize_field("every", &self.every)?;
+        s.serialize_field("members", &self.members)?;
+        s.serialize_field("seed", &self.seed)?;
+        if !self.vary.is_empty() {
+            s.serialize_field("vary", &self.vary)?;
+        }
+        self.execution.serialize_fields(&mut s)?;
+        s.end()
+    }
 }
 
 /// How a member executes where the config does not say: parallel on one
@@ -60,13 +122,25 @@ pub const MEMBER_EXECUTION: ExecutionOptions = ExecutionOptions {
     pool: None,
 };
 
-fn default_every() -> u64 {
-    100
-}
+/// A checked `steps` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Steps(#[serde(deserialize_with = "steps")] u64);
 
-fn default_seed() -> u64 {
-    1
-}
+/// A checked `every` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Every(#[serde(deserialize_with = "every")] u64);
+
+/// A checked `members` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Members(#[serde(deserialize_with = "members")] u64);
+
+/// A checked ensemble `seed` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Seed(#[serde(deserialize_with = "seed")] u64);
 
 fn seed<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
     physics::rules::SEED.read(d)
@@ -358,7 +432,7 @@ mod tests {
     #[test]
     fn a_config_writes_and_reads_back_the_same() {
         let config = parse(
-            "Ensemble(scenario: \"s.ron\", steps: 10, every: 5, members: 2, seed: 9, vary: (fragment_spread: [0.1, 0.30000001]), execution: (mode: Sequential, threads: 2))",
+            "Ensemble(scenario: \"s.ron\", steps: 10, every: 5, members: 2, seed: 9, vary: (fragment_spread: [0.1, 0.30000001]), mode: Sequential, threads: 2, split: Above(9), pool: Bevy)",
         )
         .unwrap();
         let text = ron::ser::to_string_pretty(&config, ron::ser::PrettyConfig::new().struct_names(true)).unwrap();
@@ -384,7 +458,7 @@ mod tests {
             ),
             (
                 "Ensemble(steps: 1, members: 1, colour: 3)",
-                "Unexpected field named `colour`",
+                "unknown field `colour`, expected one of `scenario`, `steps`, `every`, `members`, `seed`, `vary`, `mode`, `threads`, `split`, `pool`",
             ),
             (
                 "Ensemble(steps: 1, members: 1, vary: (warp: [1]))",
@@ -411,13 +485,18 @@ mod tests {
                 "field `vary.time_step`: named twice",
             ),
             (
-                "Ensemble(steps: 1, members: 1, execution: (threads: 0))",
+                "Ensemble(steps: 1, members: 1, threads: 0)",
                 "field `threads`: must be between 1 and 256",
             ),
             (
-                "Ensemble(steps: 1, members: 1, threads: 1)",
-                "the execution options are grouped now: write `execution: (threads: …)`",
+                "Ensemble(steps: 1, members: 1, mode: Fast)",
+                "field `mode`: Unexpected variant named `Fast`",
             ),
+            (
+                "Ensemble(steps: 1, members: 1, seed: 2, seed: 3)",
+                "duplicate field `seed`",
+            ),
+            ("Ensemble(members: 1)", "missing field named `steps`"),
             (
                 "Ensemble(steps: 1, members: 1, every: 0)",
                 "field `every`: must be between 1",

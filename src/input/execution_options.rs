@@ -1,8 +1,9 @@
 //! [`ExecutionOptions`]: how a simulation executes, as a user asks for it —
 //! one struct everywhere. The command line's `--mode`, `--threads`,
 //! `--split` and `--pool` (every command that simulates flattens it), a
-//! benchmark run's and an ensemble's `execution: (…)`, and the window's
-//! saved settings all hold it, and all become an [`Execution`] here, in
+//! benchmark run's and an ensemble's `mode`, `threads`, `split` and `pool`
+//! (flat among their own fields), and the window's saved settings
+//! (`execution: (…)`) all hold it, and all become an [`Execution`] here, in
 //! [`ExecutionOptions::build`].
 
 use clap::Args;
@@ -119,6 +120,42 @@ impl ExecutionOptions {
         Ok(())
     }
 
+    /// The options' names in files, in order.
+    pub const FIELDS: [&'static str; 4] = ["mode", "threads", "split", "pool"];
+
+    /// Reads the option named `key` from `map`, checked as the command
+    /// line checks it; `Ok(false)` where no option has that name (the value
+    /// is then not read). How a file that holds the options flat beside
+    /// its own fields (a benchmark run, an ensemble) reads them.
+    pub fn read_field<'de, A: serde::de::MapAccess<'de>>(&mut self, key: &str, map: &mut A) -> Result<bool, A::Error> {
+        match key {
+            "mode" => self.mode = map.next_value::<Mode>()?.0,
+            "threads" => self.threads = map.next_value::<Threads>()?.0,
+            "split" => self.split = map.next_value::<Split>()?.0,
+            "pool" => self.pool = map.next_value::<Pool>()?.0,
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// Writes each option given, flat, into `out` (as
+    /// [`Self::read_field`] reads them).
+    pub fn serialize_fields<S: serde::ser::SerializeStruct>(&self, out: &mut S) -> Result<(), S::Error> {
+        if let Some(mode) = self.mode {
+            out.serialize_field("mode", &mode)?;
+        }
+        if let Some(threads) = self.threads {
+            out.serialize_field("threads", &threads)?;
+        }
+        if let Some(split) = self.split {
+            out.serialize_field("split", &split)?;
+        }
+        if let Some(pool) = self.pool {
+            out.serialize_field("pool", &pool)?;
+        }
+        Ok(())
+    }
+
     /// Reads the option named `key` from `map`, of its type but with a
     /// thread count of any size (the window's settings, which hold it to
     /// this machine's range afterwards rather than refuse it); `Ok(false)`
@@ -182,6 +219,26 @@ impl ExecutionOptions {
             .with_pool(self.pool()))
     }
 }
+
+/// A checked `mode` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Mode(#[serde(deserialize_with = "read_mode")] Option<ExecutionMode>);
+
+/// A checked `threads` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Threads(#[serde(deserialize_with = "read_threads")] Option<usize>);
+
+/// A checked `split` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Split(#[serde(deserialize_with = "read_split")] Option<SplitPolicy>);
+
+/// A checked `pool` on its own.
+#[derive(Deserialize)]
+#[serde(transparent)]
+struct Pool(#[serde(deserialize_with = "read_pool")] Option<WorkerPool>);
 
 /// `mode` in a file.
 fn read_mode<'de, D: Deserializer<'de>>(d: D) -> Result<Option<ExecutionMode>, D::Error> {

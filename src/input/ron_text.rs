@@ -16,21 +16,10 @@ pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &str, extensions: Exte
             let (line, column) = (e.span.start.line, e.span.start.col);
             let code = e.code.to_string();
             // Our own checks name their field already.
-            let mut message = match field_before(text, line, column) {
+            let message = match field_before(text, line, column) {
                 Some(field) if !code.starts_with("field `") => format!("field `{field}`: {code}"),
                 _ => code,
             };
-            // Files written before the execution options were grouped
-            // (configs, an ensemble folder's record) held them flat.
-            if let ron::Error::NoSuchStructField { expected, found, .. } = &e.code
-                && expected.contains(&"execution")
-                && ["mode", "threads", "split", "pool"].contains(&found.as_str())
-            {
-                message += &format!(
-                    " (the execution options are grouped now: write `execution: ({found}: …)`, \
-                     beside the other options in it)"
-                );
-            }
             InputError {
                 origin: origin.to_owned(),
                 location: Some((line, column)),

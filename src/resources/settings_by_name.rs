@@ -50,13 +50,8 @@ pub fn setting(key: &str) -> Option<&'static SettingInfo> {
 
 /// An error for a key that names no setting, listing the names.
 pub fn unknown_setting<E: Error>(key: &str, others: &[&str]) -> E {
-    let names: Vec<String> = others
-        .iter()
-        .copied()
-        .chain(settings().iter().map(|s| s.key))
-        .map(|name| format!("`{name}`"))
-        .collect();
-    E::custom(format!("unknown field `{key}`, expected one of {}", names.join(", ")))
+    let names: Vec<&str> = others.iter().copied().chain(settings().iter().map(|s| s.key)).collect();
+    crate::input::unknown_field(key, &names)
 }
 
 impl<T: SettingValue> Rule<T> {

@@ -7,14 +7,14 @@
 
 use std::fmt;
 
-use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use super::contents::Scenario;
 use super::field_checks;
 use super::listed::Listed;
-use crate::input::FieldName;
+use crate::input::read_fields;
 use crate::resources::{settings, unknown_setting};
 
 /// The scenario's own fields, in file order (the settings come after
@@ -39,27 +39,23 @@ impl<'de> Deserialize<'de> for Scenario {
             fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 f.write_str("a Scenario(...)")
             }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Scenario, A::Error> {
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Scenario, A::Error> {
                 let mut scenario = Scenario::default();
-                let mut seen: Vec<String> = Vec::new();
-                while let Some(FieldName(key)) = map.next_key()? {
-                    if seen.contains(&key) {
-                        return Err(de::Error::custom(format!("duplicate field `{key}`")));
-                    }
-                    match key.as_str() {
-                        "name" => scenario.name = map.next_value::<Name>()?.0,
-                        "next_id" => scenario.next_id = map.next_value::<NextId>()?.0,
-                        "bodies" => scenario.bodies = map.next_value_seed(Listed::new("bodies"))?,
-                        "generators" => scenario.generators = map.next_value_seed(Listed::new("generators"))?,
-                        "events" => scenario.events = map.next_value_seed(Listed::new("events"))?,
-                        other => {
-                            if !scenario.physics.read_field(other, &mut map)? {
-                                return Err(unknown_setting(other, &OWN));
-                            }
+                read_fields(
+                    map,
+                    |key, map| {
+                        match key {
+                            "name" => scenario.name = map.next_value::<Name>()?.0,
+                            "next_id" => scenario.next_id = map.next_value::<NextId>()?.0,
+                            "bodies" => scenario.bodies = map.next_value_seed(Listed::new("bodies"))?,
+                            "generators" => scenario.generators = map.next_value_seed(Listed::new("generators"))?,
+                            "events" => scenario.events = map.next_value_seed(Listed::new("events"))?,
+                            other => return scenario.physics.read_field(other, map),
                         }
-                    }
-                    seen.push(key);
-                }
+                        Ok(true)
+                    },
+                    |key| unknown_setting(key, &OWN),
+                )?;
                 Ok(scenario)
             }
         }
