@@ -315,14 +315,37 @@ fn below_the_threshold_nothing_shatters() {
     assert_eq!(s.collision_stats().responses, 1);
 }
 
+/// Body 1 at rest is met from both sides at the same moment (0.4 of the
+/// update). Swept detection takes every contact in time order (ties in
+/// pair order): 0 hands its velocity to 1, 1 meets 2 and takes its, 1
+/// hands that back to 0: the outer two leave, the middle one rests, as the
+/// elastic sequence ends.
 #[test]
-fn each_body_responds_at_most_once_per_update() {
-    // Body 1 touches both 0 and 2; pair (0,1) goes first, (1,2) waits.
+fn a_body_met_from_both_sides_at_once_hands_both_motions_on() {
     let mut s = sim("Scenario(gravitational_constant: 0, shatter_threshold: 100, bodies: [
         Body(position: (-2.2, 0, 0), velocity: (0.5, 0, 0)),
         Body(position: (0, 0, 0)),
         Body(position: (2.2, 0, 0), velocity: (-0.5, 0, 0)),
     ])");
+    s.step(1);
+    let stats = s.collision_stats();
+    assert_eq!((stats.pairs, stats.responses), (2, 3));
+    let b = s.snapshot();
+    assert_eq!(b.iter().map(|b| b.velocity.x).collect::<Vec<_>>(), [-0.5, 0.0, 0.5]);
+    assert!(b[1].position.x - b[0].position.x >= 2.0 - 1e-6, "apart: {b:?}");
+    assert!(b[2].position.x - b[1].position.x >= 2.0 - 1e-6, "apart: {b:?}");
+}
+
+#[test]
+fn each_body_responds_at_most_once_per_update_under_discrete_detection() {
+    // Body 1 touches both 0 and 2; pair (0,1) goes first, (1,2) waits.
+    let mut s = sim(
+        "Scenario(gravitational_constant: 0, shatter_threshold: 100, collision_detection: Discrete, bodies: [
+        Body(position: (-2.2, 0, 0), velocity: (0.5, 0, 0)),
+        Body(position: (0, 0, 0)),
+        Body(position: (2.2, 0, 0), velocity: (-0.5, 0, 0)),
+    ])",
+    );
     s.step(1);
     let stats = s.collision_stats();
     assert_eq!((stats.pairs, stats.responses), (2, 1));

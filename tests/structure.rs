@@ -704,7 +704,7 @@ const LADDERS: &[(&str, &[&str])] = &[
     ),
     (
         "crate::systems::response",
-        &["outcomes", "matching", "swept", "contact"],
+        &["time_order", "outcomes", "matching", "swept", "contact"],
     ),
     (
         "crate::systems::sort",

@@ -264,3 +264,128 @@ fn a_fired_impactor_meets_what_lies_in_its_way() {
         assert_eq!(left, [1 - shattered], "{detection}: the body left whole");
     }
 }
+
+/// The scene of equal or given cubes on the x axis (G = 0, no shatters),
+/// one update of `dt` = 1 under `detection`: each body's (x, vx) after it.
+fn row(detection: &str, bodies: &[(f32, f32, f32)]) -> Vec<(f32, f32)> {
+    let listed: Vec<String> = bodies
+        .iter()
+        .map(|(x, v, m)| format!("Body(position: ({x}, 0, 0), velocity: ({v}, 0, 0), mass: {m})"))
+        .collect();
+    let mut s = sim(&format!(
+        "Scenario(gravitational_constant: 0, shatter_threshold: 1000, collision_detection: {detection}, bodies: [{}])",
+        listed.join(", ")
+    ));
+    s.step(1);
+    s.snapshot().iter().map(|b| (b.position.x, b.velocity.x)).collect()
+}
+
+fn assert_row(got: &[(f32, f32)], expected: &[(f32, f32)]) {
+    for (k, (g, e)) in got.iter().zip(expected).enumerate() {
+        assert!(
+            (g.0 - e.0).abs() < 1e-4 && (g.1 - e.1).abs() < 1e-4,
+            "body {k}: got {g:?}, expected {e:?} (all: {got:?})"
+        );
+    }
+}
+
+/// A Newton's cradle of three unit cubes: A at 0 moving at 10 an update,
+/// B at 4 and C at 6.5 at rest. A touches B at 0.2 of the update and
+/// stops there (x = 2); B moves on, touches C at 0.25 and stops (4.5); C
+/// moves on at 10 for the rest: 6.5 + 7.5 = 14. B no longer passes
+/// through C.
+#[test]
+fn a_cradle_of_three_ends_as_the_elastic_sequence_does() {
+    let got = row("Swept", &[(0.0, 10.0, 1.0), (4.0, 0.0, 1.0), (6.5, 0.0, 1.0)]);
+    assert_row(&got, &[(2.0, 0.0), (4.5, 0.0), (14.0, 10.0)]);
+}
+
+/// A chain of five equal cubes 0.5 apart (faces), the first at 10 an
+/// update: each stops where it touched the next, 0.05 of the update
+/// later each, and the last moves on from 0.25: 10.5 + 7.5 = 18.
+#[test]
+fn a_chain_of_five_passes_the_motion_to_the_last() {
+    let got = row(
+        "Swept",
+        &[
+            (0.0, 10.0, 1.0),
+            (3.0, 0.0, 1.0),
+            (5.5, 0.0, 1.0),
+            (8.0, 0.0, 1.0),
+            (10.5, 0.0, 1.0),
+        ],
+    );
+    assert_row(&got, &[(1.0, 0.0), (3.5, 0.0), (6.0, 0.0), (8.5, 0.0), (18.0, 10.0)]);
+}
+
+/// Unequal masses 1, 2, 3: A (at 0, 10 an update) touches B at 0.2 and
+/// rebounds at −10/3 while B leaves at 20/3; B touches C 0.075 later and
+/// rebounds at −4/3 while C leaves at 16/3. Momentum and energy are kept
+/// to rounding and the bodies stay in their order, apart.
+#[test]
+fn a_chain_of_unequal_masses_keeps_momentum_energy_and_order() {
+    let bodies = [(0.0, 10.0, 1.0), (4.0, 0.0, 2.0), (6.5, 0.0, 3.0)];
+    let got = row("Swept", &bodies);
+    let expected = [
+        (2.0 - 10.0 / 3.0 * 0.8, -10.0 / 3.0),
+        (4.5 - 4.0 / 3.0 * 0.725, -4.0 / 3.0),
+        (6.5 + 16.0 / 3.0 * 0.725, 16.0 / 3.0),
+    ];
+    assert_row(&got, &expected);
+    let sum = |f: &dyn Fn(f64, f64) -> f64| -> f64 {
+        got.iter()
+            .zip(&bodies)
+            .map(|((_, v), (_, _, m))| f(f64::from(*m), f64::from(*v)))
+            .sum()
+    };
+    assert!((sum(&|m, v| m * v) - 10.0).abs() < 1e-5, "momentum");
+    assert!((sum(&|m, v| 0.5 * m * v * v) - 50.0).abs() < 1e-4, "energy");
+    assert!(
+        got[0].0 + 2.0 <= got[1].0 && got[1].0 + 2.0 <= got[2].0,
+        "in order, apart: {got:?}"
+    );
+}
+
+/// B at rest between A (coming from the left) and C (from the right) is
+/// struck by A, then by C, then meets A again, all in one update: A ends
+/// at −2 moving left, B at rest at 5, C at 14 moving right.
+#[test]
+fn a_body_struck_twice_in_one_update_meets_each_in_turn() {
+    let got = row("Swept", &[(0.0, 10.0, 1.0), (5.0, 0.0, 1.0), (12.0, -10.0, 1.0)]);
+    assert_row(&got, &[(-2.0, -10.0), (5.0, 0.0), (14.0, 10.0)]);
+}
+
+/// Two cubes overlapping where the update starts and moving apart part
+/// freely under both detections, on every axis and on a diagonal, fast
+/// (apart at the update's end) or slowly (still overlapping then).
+#[test]
+fn overlapping_pairs_that_move_apart_part_freely() {
+    let directions = [
+        Vec3::X,
+        Vec3::Y,
+        Vec3::Z,
+        Vec3::ONE.normalize(),
+        Vec3::new(1.0, -1.0, 0.5).normalize(),
+    ];
+    for detection in ["Swept", "Discrete"] {
+        for direction in directions {
+            for (apart, speed) in [(1.5, 2.5), (1.0, 0.2)] {
+                let (a, b) = (Vec3::ZERO, direction * apart);
+                let v = direction * speed;
+                let mut s = sim(&format!(
+                    "Scenario(gravitational_constant: 0, shatter_threshold: 1000, collision_detection: {detection}, bodies: [
+                        Body(position: ({}, {}, {}), velocity: ({}, {}, {})),
+                        Body(position: ({}, {}, {}), velocity: ({}, {}, {})),
+                    ])",
+                    a.x, a.y, a.z, -v.x, -v.y, -v.z, b.x, b.y, b.z, v.x, v.y, v.z
+                ));
+                s.step(1);
+                let got = s.snapshot();
+                let case = format!("{detection}, {direction}, {apart} apart at {speed}");
+                assert!((got[0].position - (a - v)).length() < 1e-5, "{case}: {got:?}");
+                assert!((got[1].position - (b + v)).length() < 1e-5, "{case}: {got:?}");
+                assert_eq!((got[0].velocity, got[1].velocity), (-v, v), "{case}");
+            }
+        }
+    }
+}

@@ -29,7 +29,9 @@ pub use pipeline::{
     SimulationUpdate, Stage, StageTimings, Timing, UpdateCount, first_non_finite, pair_limit, run_due_events,
     run_updates,
 };
-pub use response::{Absorbed, CollisionStats, ContactBody, ResponsePlugin, refuse_shatters, respond};
+pub use response::{
+    Absorbed, CollisionStats, ContactBody, MAX_CONTACTS_PER_BODY, ResponsePlugin, refuse_shatters, respond,
+};
 pub use shatter::ShatterPlugin;
 pub use sort::{SortPlugin, SortedBoxes, sort_boxes};
 pub use sweep::{OverlappingPairs, Pair, SweepPlugin, id_pairs, sweep_and_prune};

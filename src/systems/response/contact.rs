@@ -116,11 +116,21 @@ pub fn shatters(a: &ContactBody, b: &ContactBody, threshold: f32) -> bool {
 /// not interact (relative to its own motion, which stays); the other axes
 /// keep their velocities.
 pub fn bounce_on_axes(a: &ContactBody, b: &ContactBody, axes: [bool; 3]) -> (DVec3, DVec3) {
-    let (va, vb) = (a.velocity.as_dvec3(), b.velocity.as_dvec3());
+    bounce_velocities(
+        [
+            (a.velocity.as_dvec3(), f64::from(a.mass), a.interacts),
+            (b.velocity.as_dvec3(), f64::from(b.mass), b.interacts),
+        ],
+        axes,
+    )
+}
+
+/// [`bounce_on_axes`] of two bodies given as (velocity, mass, interacts).
+pub fn bounce_velocities([(va, ma, ia), (vb, mb, ib)]: [(DVec3, f64, bool); 2], axes: [bool; 3]) -> (DVec3, DVec3) {
     let (mut ua, mut ub) = (va, vb);
     for k in (0..3).filter(|&k| axes[k]) {
-        (ua[k], ub[k]) = match (a.interacts, b.interacts) {
-            (true, true) => elastic(f64::from(a.mass), va[k], f64::from(b.mass), vb[k]),
+        (ua[k], ub[k]) = match (ia, ib) {
+            (true, true) => elastic(ma, va[k], mb, vb[k]),
             (true, false) => (2.0 * vb[k] - va[k], vb[k]),
             (false, _) => (va[k], 2.0 * va[k] - vb[k]),
         };
@@ -151,9 +161,16 @@ pub fn respond(a: &ContactBody, b: &ContactBody, threshold: f32, dt: f32) -> Out
     let (pa, pb) = (a.position.as_dvec3(), b.position.as_dvec3());
     let (va, vb) = (a.velocity.as_dvec3(), b.velocity.as_dvec3());
     let reach = (a.half_extents + b.half_extents).as_dvec3();
-    // Overlapping already a step ago (e.g. spawned so): no impact happened.
+    // Overlapping already a step ago (e.g. spawned so): no impact
+    // happened. A pair that parts on the axis it would be pushed apart on
+    // parts freely; one that does not is pushed apart.
     if !apart_axes(a, b).contains(&true) {
-        return separate(a, b, reach - (pa - pb).abs());
+        let overlap = reach - (pa - pb).abs();
+        let k = least(overlap);
+        if (pa[k] - pb[k]).abs() > (f64::from(a.previous[k]) - f64::from(b.previous[k])).abs() {
+            return Outcome::Ignore;
+        }
+        return separate(a, b, overlap);
     }
     let axes = collision_axes(a, b);
     // Apart before, touching now, but not approaching: a graze.
@@ -269,10 +286,15 @@ pub fn respond_to_ball(cube: &ContactBody, ball: &ContactBody) -> Outcome {
     }
 }
 
+/// The axis of least overlap (ties: the lowest).
+pub fn least(overlap: DVec3) -> usize {
+    (0..3).fold(0, |best, k| if overlap[k] < overlap[best] { k } else { best })
+}
+
 /// Pushes the boxes apart along the axis of least overlap (ties: lowest
 /// axis), half each when both interact; velocities unchanged.
 fn separate(a: &ContactBody, b: &ContactBody, overlap: DVec3) -> Outcome {
-    let k = (0..3).fold(0, |best, k| if overlap[k] < overlap[best] { k } else { best });
+    let k = least(overlap);
     let (pa, pb) = (a.position.as_dvec3(), b.position.as_dvec3());
     let direction = if pa[k] >= pb[k] { 1.0 } else { -1.0 };
     let (share_a, share_b) = match (a.interacts, b.interacts) {
@@ -439,8 +461,9 @@ mod tests {
 
     #[test]
     fn already_overlapping_boxes_separate_along_the_least_overlap() {
+        // Closing on y (1.75 apart a step ago, 1.5 now): pushed apart.
         let a = ContactBody {
-            previous: Vec3::new(0.0, 1.5, 0.0),
+            previous: Vec3::new(0.0, -0.25, 0.0),
             ..cube(0.0, 0.0, 1.0)
         };
         let b = ContactBody {
@@ -456,6 +479,12 @@ mod tests {
             }
             other => panic!("expected a separation, got {other:?}"),
         }
+        // Parting on y (0 apart a step ago, 1.5 now): they part freely.
+        let parting = ContactBody {
+            previous: Vec3::new(0.0, 1.5, 0.0),
+            ..a
+        };
+        assert_eq!(respond(&parting, &b, 3.0, 1.0), Outcome::Ignore);
     }
 
     #[test]

@@ -1,18 +1,15 @@
-//! The response's matching: which overlapping pairs it takes this update,
-//! each interacting body in at most one (in pair order, or with swept
-//! detection in the order of their first touch), and which bodies touch an
-//! absorber.
+//! Discrete detection's matching: which overlapping pairs the response
+//! takes this update, each interacting body in at most one, in pair order,
+//! and which bodies touch an absorber.
 
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
 use super::contact::touches;
-use super::swept::{Meeting, first_contact};
 use crate::components::{
     Absorbs, BodyId, BodyState, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition, Spherical,
     Velocity,
 };
-use crate::execution::StageExecution;
 use crate::systems::sweep::Pair;
 
 /// A [`crate::components::BodyStateQuery`] that can move the body.
@@ -111,59 +108,4 @@ pub(super) fn match_pairs(pairs: &[Pair], bodies: &ContactQuery, busy: &mut Hash
         matched.push((entities, states));
     }
     matched
-}
-
-/// What the swept matching hands on: the re-entries, the matched pairs
-/// and when each met.
-pub(super) type SweptMatching = (Vec<(Entity, BodyState)>, Vec<Matched>, Vec<Meeting>);
-
-/// Swept detection's matching: every pair's first touch ([`first_contact`],
-/// split as `stage` says), then the pairs that touch in the order of that
-/// touch (ties in pair order), each interacting body in at most one
-/// response: absorbed by an absorber it meets (a re-entry), or matched
-/// with the other body. Bodies in `busy` take part in none.
-pub(super) fn swept_matching(
-    pairs: &[Pair],
-    bodies: &ContactQuery,
-    busy: &mut HashSet<Entity>,
-    stage: StageExecution<'_>,
-) -> SweptMatching {
-    let candidates: Vec<Matched> = pairs
-        .iter()
-        .filter_map(|pair| {
-            let entities = [pair.entity_a, pair.entity_b];
-            Some((
-                entities,
-                [body_state(bodies, entities[0])?, body_state(bodies, entities[1])?],
-            ))
-        })
-        .collect();
-    let meetings: Vec<Option<Meeting>> = stage
-        .map_chunks(candidates.as_slice(), |chunk: &[Matched]| {
-            chunk
-                .iter()
-                .map(|(_, [a, b])| first_contact(&a.into(), &b.into()))
-                .collect::<Vec<_>>()
-        })
-        .concat();
-    let mut order: Vec<(f64, usize, Meeting)> = meetings
-        .iter()
-        .enumerate()
-        .filter_map(|(index, meeting)| meeting.map(|m| (m.time(), index, m)))
-        .collect();
-    order.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-    let (mut absorbed, mut matched, mut met) = (Vec::new(), Vec::new(), Vec::new());
-    for (_, index, meeting) in order {
-        let (entities, [a, b]) = candidates[index];
-        if a.absorbs || b.absorbs {
-            absorb(entities, [a, b], busy, &mut absorbed);
-            continue;
-        }
-        if !take_pair(entities, &[a, b], busy) {
-            continue;
-        }
-        matched.push((entities, [a, b]));
-        met.push(meeting);
-    }
-    (absorbed, matched, met)
 }

@@ -1,18 +1,20 @@
 //! The response stage: bounce, push-back, separate, or mark for
 //! shattering (docs/design.md, "Response").
 //!
-//! Pairs are taken in sorted order (with swept detection, in the order of
-//! their first touch) and each interacting body takes part in at most one
-//! response per update (a greedy matching); the rest wait for the next
-//! update while they still overlap. Non-interacting bodies are never
-//! changed by a response, so they may meet any number of bodies at once.
-//! The matched pairs are disjoint, so their responses are computed in
-//! parallel with the same result.
+//! With swept detection every contact of the update is taken in time
+//! order, chains included (`time_order.rs`). With discrete detection pairs
+//! are taken in sorted order and each interacting body takes part in at
+//! most one response per update (a greedy matching); the rest wait for the
+//! next update while they still overlap; the matched pairs are disjoint,
+//! so their responses are computed in parallel with the same result.
+//! Non-interacting bodies are never changed by a response, so they may
+//! meet any number of bodies at once.
 
 mod contact;
 mod matching;
 mod outcomes;
 mod swept;
+mod time_order;
 
 use bevy::ecs::system::SystemParam;
 use bevy::math::DVec3;
@@ -21,15 +23,19 @@ use bevy::prelude::*;
 
 pub use contact::{ContactBody, Outcome, respond};
 pub use outcomes::refuse_shatters;
-pub use swept::respond_swept;
+pub use time_order::MAX_CONTACTS_PER_BODY;
 
-use crate::components::Absorbs;
+use crate::components::{Absorbs, BodyId, BodyState};
+use crate::execution::StageExecution;
+use crate::physics::Aabb;
 use crate::resources::{CollisionDetection, NextBodyId, SimulationSettings};
-use crate::systems::shatter::ShatterQueue;
-use crate::systems::sweep::OverlappingPairs;
+use crate::systems::shatter::{PendingShatters, ShatterQueue};
+use crate::systems::sort::SortedBoxes;
+use crate::systems::sweep::{OverlappingPairs, Pair};
 use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
-use matching::{ContactQuery, find_reentries, match_pairs, swept_matching};
-use outcomes::apply_outcomes;
+use matching::{ContactQuery, find_reentries, match_pairs};
+use outcomes::{ShatterBudget, apply_outcomes, write_motion};
+use time_order::{Neighbourhood, Resolved, Rules, resolve_in_time_order};
 
 /// Counts of what collisions did, for summaries and the HUD.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -42,6 +48,9 @@ pub struct CollisionStats {
     pub shatters: usize,
     /// Pairs that shattered since the start.
     pub shatters_total: u64,
+    /// Contacts left for the next update because the update's contacts
+    /// reached [`MAX_CONTACTS_PER_BODY`] (swept detection).
+    pub deferred: usize,
     /// Pairs that met fast enough to shatter this update but bounced: their
     /// fragments would have been below `min_fragment_size`, there would
     /// have been more than `max_bodies` bodies, or a fragment's id would
@@ -86,13 +95,44 @@ impl Plugin for ResponsePlugin {
 }
 
 /// What the response reads besides the bodies: the pairs the broad phase
-/// found, whether any absorber is there, and the next fresh id (which
-/// bounds the shatters).
+/// found, its boxes and each box's body (for what a new path reaches),
+/// whether any absorber is there, and the next fresh id (which bounds the
+/// shatters).
 #[derive(SystemParam)]
 struct Found<'w, 's> {
     pairs: Res<'w, OverlappingPairs>,
+    sorted: Res<'w, SortedBoxes>,
+    owners: Query<'w, 's, (Entity, &'static BodyId)>,
     absorbers: Query<'w, 's, (), With<Absorbs>>,
     next_id: Res<'w, NextBodyId>,
+}
+
+/// The bodies as the swept contacts look them up: their states, and the
+/// broad phase's boxes by the index of their body in table order.
+struct Lookup<'a, 'w, 's> {
+    bodies: &'a ContactQuery<'w, 's>,
+    sorted: &'a SortedBoxes,
+    /// Each table's entities, in the order the broad phase read them.
+    tables: Vec<&'a [Entity]>,
+}
+
+impl Neighbourhood for Lookup<'_, '_, '_> {
+    fn state(&self, entity: Entity) -> Option<BodyState> {
+        self.bodies.get(entity).ok().map(BodyState::from_components)
+    }
+
+    fn reached(&self, region: &Aabb, out: &mut Vec<Entity>) {
+        self.sorted.overlapping(region, |index| {
+            let mut index = index as usize;
+            for table in &self.tables {
+                if index < table.len() {
+                    out.push(table[index]);
+                    return;
+                }
+                index -= table.len();
+            }
+        });
+    }
 }
 
 /// What the response records: the mass the absorbers took and the
@@ -101,6 +141,48 @@ struct Found<'w, 's> {
 struct Records<'w> {
     absorbed: ResMut<'w, Absorbed>,
     stats: ResMut<'w, CollisionStats>,
+}
+
+/// Discrete detection's response: the absorbers' partners first (where
+/// `absorbers` are), then the greedy matching in pair order, each matched
+/// pair's outcome (in parallel as `stage` splits them), the shatter budget
+/// in pair order, and every outcome written back.
+fn respond_discrete(
+    pairs: &[Pair],
+    (bodies, busy): (&mut ContactQuery, &mut HashSet<Entity>),
+    absorbers: bool,
+    (settings, threshold, next_id): (&SimulationSettings, f32, NextBodyId),
+    stage: StageExecution<'_>,
+    pending: &mut PendingShatters,
+) -> Resolved {
+    let dt = settings.time_step;
+    // Without an absorber (the thesis scene), no pass over the pairs for one.
+    let reentries = if absorbers {
+        find_reentries(pairs, bodies, busy)
+    } else {
+        Vec::new()
+    };
+    let matched = match_pairs(pairs, bodies, busy);
+    let outcome = |index: usize, threshold: f32| {
+        let (_, [a, b]) = &matched[index];
+        respond(&a.into(), &b.into(), threshold, dt)
+    };
+    let body_count = bodies.iter().len() - reentries.len();
+    let mut outcomes: Vec<Outcome> = stage
+        .map_chunks_of_at_least(0..matched.len(), PAIRS_PER_CHUNK, |range| {
+            range.map(|index| outcome(index, threshold)).collect::<Vec<_>>()
+        })
+        .concat();
+    let refused = refuse_shatters(&matched, &mut outcomes, settings, body_count, next_id, |index| {
+        outcome(index, f32::INFINITY)
+    });
+    let responses = apply_outcomes(&matched, outcomes, bodies, pending);
+    Resolved {
+        reentries,
+        responses,
+        refused,
+        ..Resolved::default()
+    }
 }
 
 fn respond_to_pairs(
@@ -115,6 +197,8 @@ fn respond_to_pairs(
     let clock = stage.start(SimulationSystems::Response);
     let Found {
         pairs,
+        sorted,
+        owners,
         absorbers,
         next_id,
     } = found;
@@ -140,59 +224,57 @@ fn respond_to_pairs(
     busy.clear();
     let dt = settings.time_step;
     let body_count = bodies.iter().len();
-    let (reentries, matched, meetings) = if settings.collision_detection == CollisionDetection::Swept {
-        swept_matching(&pairs.0, &bodies, &mut busy, clock.execution(body_count))
-    } else {
-        // Without an absorber (the thesis scene), no pass over the pairs for one.
-        let reentries = if absorbers.is_empty() {
-            Vec::new()
-        } else {
-            find_reentries(&pairs.0, &bodies, &mut busy)
-        };
-        let matched = match_pairs(&pairs.0, &bodies, &mut busy);
-        (reentries, matched, Vec::new())
-    };
-    for (entity, body) in &reentries {
-        let mass = f64::from(body.mass);
-        absorbed.mass += mass;
-        absorbed.momentum += body.velocity.as_dvec3() * mass;
-        reentering.0.push(*entity);
-    }
     // Fewer than two fragments cannot keep volume: then nothing shatters.
     let threshold = if settings.shatter_fragments >= 2 {
         settings.shatter_threshold
     } else {
         f32::INFINITY
     };
-    let body_count = body_count - reentries.len();
-    // One pair's outcome: by its meeting with swept detection, else by today's rule.
-    let outcome = |index: usize, threshold: f32| {
-        let (_, [a, b]) = &matched[index];
-        let (a, b): (ContactBody, ContactBody) = (a.into(), b.into());
-        match meetings.get(index) {
-            Some(&meeting) => respond_swept(&a, &b, meeting, threshold, dt),
-            None => respond(&a, &b, threshold, dt),
+    let budget = ShatterBudget::new(&settings, body_count, *next_id);
+    let resolved = if settings.collision_detection == CollisionDetection::Swept {
+        let lookup = Lookup {
+            bodies: &bodies,
+            sorted: &sorted,
+            tables: owners
+                .contiguous_iter()
+                .expect("body components are table-stored")
+                .map(|(entities, _)| entities)
+                .collect(),
+        };
+        let rules = Rules { threshold, dt, budget };
+        let resolved = resolve_in_time_order(&pairs.0, &lookup, clock.execution(body_count), rules);
+        for &(entity, motion) in &resolved.motions {
+            write_motion(&mut bodies, entity, motion);
         }
+        resolved
+    } else {
+        respond_discrete(
+            &pairs.0,
+            (&mut bodies, &mut busy),
+            !absorbers.is_empty(),
+            (&settings, threshold, *next_id),
+            clock.execution(body_count),
+            &mut pending,
+        )
     };
-    let mut outcomes: Vec<Outcome> = clock
-        .execution(body_count)
-        .map_chunks_of_at_least(0..matched.len(), PAIRS_PER_CHUNK, |range| {
-            range.map(|index| outcome(index, threshold)).collect::<Vec<_>>()
-        })
-        .concat();
-    let refused = refuse_shatters(&matched, &mut outcomes, &settings, body_count, *next_id, |index| {
-        outcome(index, f32::INFINITY)
-    });
-    let responses = apply_outcomes(&matched, (outcomes, &meetings, dt), &mut bodies, &mut pending);
+    for (entity, body) in &resolved.reentries {
+        let mass = f64::from(body.mass);
+        absorbed.mass += mass;
+        absorbed.momentum += body.velocity.as_dvec3() * mass;
+        reentering.0.push(*entity);
+    }
+    pending.0.extend(resolved.shatters);
+    let refused = resolved.refused;
     *stats = CollisionStats {
         pairs: pairs.0.len(),
-        responses,
+        responses: resolved.responses,
+        deferred: resolved.deferred,
         shatters: pending.0.len(),
         shatters_total: stats.shatters_total + pending.0.len() as u64,
         refused_shatters: refused,
         refused_total: stats.refused_total + refused as u64,
-        reentries: reentries.len(),
-        reentries_total: stats.reentries_total + reentries.len() as u64,
+        reentries: resolved.reentries.len(),
+        reentries_total: stats.reentries_total + resolved.reentries.len() as u64,
     };
     clock.finish();
 }

@@ -3,20 +3,67 @@
 
 use bevy::prelude::*;
 
-use super::contact::Outcome;
+use super::contact::{Motion, Outcome};
 use super::matching::{ContactQuery, Matched};
-use super::swept::{Meeting, contact_states};
+use crate::components::BodyState;
 use crate::physics::{box_volume, fragments_sound, smallest_fragment_edge};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::systems::shatter::{PendingShatters, ShatterPair};
 
-/// The floor, the budget and the ids: turns the shatters that would make
-/// fragments below `min_fragment_size` or too light or small for a body
-/// ([`fragments_sound`]), more bodies than `max_bodies`
-/// (counting from `bodies`), or an id past [`MAX_ID`](crate::resources::MAX_ID) (counting from
-/// `next_id`) — in pair order, as the shatter stage hands ids out — into
-/// what the pair does when it may not shatter (a bounce: `unshattered`
-/// gives it for the pair of that index). Returns the number refused.
+/// What a shatter may still make this update: the fragment floor, the body
+/// budget and the ids, counted from `bodies` and `next_id` as shatters are
+/// allowed (in the order the shatter stage hands ids out).
+pub struct ShatterBudget<'a> {
+    settings: &'a SimulationSettings,
+    bodies: u64,
+    next_id: NextBodyId,
+}
+
+impl<'a> ShatterBudget<'a> {
+    /// The budget of an update that starts with `bodies` bodies and the
+    /// next fresh id `next_id`.
+    pub fn new(settings: &'a SimulationSettings, bodies: usize, next_id: NextBodyId) -> Self {
+        Self {
+            settings,
+            bodies: bodies as u64,
+            next_id,
+        }
+    }
+
+    /// One body fewer (absorbed).
+    pub fn absorbed(&mut self) {
+        self.bodies = self.bodies.saturating_sub(1);
+    }
+
+    /// Whether `a` and `b` may shatter: not if their fragments would be
+    /// below `min_fragment_size` or too light or small for a body
+    /// ([`fragments_sound`]), make more bodies than `max_bodies`, or take
+    /// an id past [`MAX_ID`](crate::resources::MAX_ID). If they may, the
+    /// budget counts their fragments.
+    pub fn allows(&mut self, a: &BodyState, b: &BodyState) -> bool {
+        let settings = self.settings;
+        let count = settings.shatter_fragments.max(2);
+        let added = u64::from(count) - 2;
+        let volume = box_volume(a.half_extents) + box_volume(b.half_extents);
+        let edge = smallest_fragment_edge(volume, settings.fragment_sizes, count);
+        let mass = f64::from(a.mass) + f64::from(b.mass);
+        if edge < f64::from(settings.min_fragment_size)
+            || !fragments_sound(volume, mass, settings.fragment_sizes, count)
+            || self.bodies + added > settings.max_bodies
+            || !self.next_id.has_room_for(u64::from(count))
+        {
+            return false;
+        }
+        self.bodies += added;
+        self.next_id.0 += u64::from(count);
+        true
+    }
+}
+
+/// The budget ([`ShatterBudget`]) in pair order: turns the shatters it
+/// does not allow into what the pair does when it may not shatter (a
+/// bounce: `unshattered` gives it for the pair of that index). Returns the
+/// number refused.
 pub fn refuse_shatters(
     matched: &[Matched],
     outcomes: &mut [Outcome],
@@ -25,51 +72,24 @@ pub fn refuse_shatters(
     next_id: NextBodyId,
     unshattered: impl Fn(usize) -> Outcome,
 ) -> usize {
-    let count = settings.shatter_fragments.max(2);
-    let added = u64::from(count) - 2;
-    let mut bodies = bodies as u64;
-    let mut next_id = next_id;
+    let mut budget = ShatterBudget::new(settings, bodies, next_id);
     let mut refused = 0;
     for (index, ((_, [a, b]), outcome)) in matched.iter().zip(outcomes.iter_mut()).enumerate() {
-        if *outcome != Outcome::Shatter {
-            continue;
-        }
-        let volume = box_volume(a.half_extents) + box_volume(b.half_extents);
-        let edge = smallest_fragment_edge(volume, settings.fragment_sizes, count);
-        let mass = f64::from(a.mass) + f64::from(b.mass);
-        if edge < f64::from(settings.min_fragment_size)
-            || !fragments_sound(volume, mass, settings.fragment_sizes, count)
-            || bodies + added > settings.max_bodies
-            || !next_id.has_room_for(u64::from(count))
-        {
+        if *outcome == Outcome::Shatter && !budget.allows(a, b) {
             *outcome = unshattered(index);
             refused += 1;
-        } else {
-            bodies += added;
-            next_id.0 += u64::from(count);
         }
     }
     refused
 }
 
-/// Where a shattering pair's fragments are made: with swept detection (a
-/// meeting for each pair), the bodies where they met and the time left for
-/// the fragments to move on; else where they are, with none left.
-fn shatter_pair(index: usize, (entities, states): &Matched, meetings: &[Meeting], dt: f32) -> ShatterPair {
-    let Some(&meeting) = meetings.get(index) else {
-        return ShatterPair {
-            entities: *entities,
-            bodies: *states,
-            rest: 0.0,
-        };
-    };
-    let ([pa, pb], rest) = contact_states(&(&states[0]).into(), &(&states[1]).into(), meeting, dt);
-    let mut bodies = *states;
-    (bodies[0].position, bodies[1].position) = (pa, pb);
+/// Where a shattering pair's fragments are made (discrete detection):
+/// where the bodies are, with no time left in the update.
+fn shatter_pair((entities, states): &Matched) -> ShatterPair {
     ShatterPair {
         entities: *entities,
-        bodies,
-        rest,
+        bodies: *states,
+        rest: 0.0,
     }
 }
 
@@ -79,28 +99,36 @@ fn shatter_pair(index: usize, (entities, states): &Matched, meetings: &[Meeting]
 /// bounces and separations.
 pub(super) fn apply_outcomes(
     matched: &[Matched],
-    (outcomes, meetings, dt): (Vec<Outcome>, &[Meeting], f32),
+    outcomes: Vec<Outcome>,
     bodies: &mut ContactQuery,
     pending: &mut PendingShatters,
 ) -> usize {
     let mut responses = 0;
-    for (index, (pair, outcome)) in matched.iter().zip(outcomes).enumerate() {
+    for (pair, outcome) in matched.iter().zip(outcomes) {
         let entities = &pair.0;
         let motions = match outcome {
             Outcome::Ignore => continue,
             Outcome::Shatter => {
-                pending.0.push(shatter_pair(index, pair, meetings, dt));
+                pending.0.push(shatter_pair(pair));
                 continue;
             }
             Outcome::Bounce(ma, mb) | Outcome::Separate(ma, mb) => [ma, mb],
         };
         responses += 1;
         for (entity, motion) in entities.iter().zip(motions) {
-            if let (Some(motion), Ok((_, mut position, _, mut velocity, ..))) = (motion, bodies.get_mut(*entity)) {
-                position.bypass_change_detection().0 = motion.position;
-                velocity.bypass_change_detection().0 = motion.velocity;
+            if let Some(motion) = motion {
+                write_motion(bodies, *entity, motion);
             }
         }
     }
     responses
+}
+
+/// Writes `motion` into the body `entity` (without marking it changed:
+/// see the components' change-detection rule).
+pub(super) fn write_motion(bodies: &mut ContactQuery, entity: Entity, motion: Motion) {
+    if let Ok((_, mut position, _, mut velocity, ..)) = bodies.get_mut(entity) {
+        position.bypass_change_detection().0 = motion.position;
+        velocity.bypass_change_detection().0 = motion.velocity;
+    }
 }

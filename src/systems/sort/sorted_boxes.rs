@@ -73,6 +73,22 @@ impl SortedBoxes {
         &self.boxes[self.starts[cell] as usize..self.starts[cell + 1] as usize]
     }
 
+    /// Calls `f` with the input index of every sorted box that overlaps
+    /// `region` (touching counts); a box filed in several cells comes once
+    /// for each of those `region` covers. Nothing before the first sort.
+    pub fn overlapping(&self, region: &Aabb, mut f: impl FnMut(u32)) {
+        let Some(grid) = &self.grid else {
+            return;
+        };
+        grid.for_each_cell(region, |cell| {
+            for filed in self.in_sweep_order(cell as usize) {
+                if filed.aabb.overlaps(region) {
+                    f(filed.index);
+                }
+            }
+        });
+    }
+
     /// Number of boxes sorted.
     pub fn len(&self) -> usize {
         self.len

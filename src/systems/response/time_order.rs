@@ -1,0 +1,426 @@
+//! Swept detection's contacts in time order (docs/design.md, "Contacts in
+//! time order"): every contact of an update, chains included. Each pair
+//! the broad phase found gets its first touch on the bodies' paths; the
+//! earliest touch acts first; a body whose path it changes is tested again
+//! from that moment against its pairs, and — where its new path leaves the
+//! box the broad phase swept for it — against every body that path
+//! reaches; until no contact is left. A Newton's cradle ends as the
+//! analytic sequence of elastic collisions does.
+//!
+//! Contacts are taken in the order of their time, ties in the order their
+//! pairs were found (the broad phase's pairs in id order, then pairs found
+//! along the way in the order found, each search's bodies in id order), so
+//! the result does not depend on threads or on how bodies are stored.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use bevy::platform::collections::{HashMap, HashSet};
+use bevy::prelude::*;
+
+use super::contact::Motion;
+use super::outcomes::ShatterBudget;
+use super::swept::{Contact, Meeting, SweptBody, first_contact, respond_swept};
+use crate::components::BodyState;
+use crate::execution::StageExecution;
+use crate::physics::Aabb;
+use crate::systems::shatter::ShatterPair;
+use crate::systems::sort::boxes::swept_box;
+use crate::systems::sweep::Pair;
+
+/// Most contacts that change a path (bounces and separations) per body
+/// taking part, within one update: past it the rest of the update's
+/// contacts wait for the next update and are counted
+/// ([`Resolved::deferred`]). Elastic chains end after a few contacts a
+/// body; a body caught between two walls takes one contact for each time
+/// it crosses the gap. Measured never to be reached in the shipped scenes
+/// (tests/contacts.rs).
+pub const MAX_CONTACTS_PER_BODY: usize = 64;
+
+/// Where the contacts find bodies beyond the broad phase's pairs.
+pub(super) trait Neighbourhood {
+    /// The state of `entity` as the response found it.
+    fn state(&self, entity: Entity) -> Option<BodyState>;
+    /// Appends to `out` every body whose box in this update's broad phase
+    /// overlaps `region` (in any order; one may come more than once).
+    fn reached(&self, region: &Aabb, out: &mut Vec<Entity>);
+}
+
+/// What the contacts of an update did.
+#[derive(Debug, Default)]
+pub(super) struct Resolved {
+    /// Bodies absorbed (re-entries), with their state at the touch, in
+    /// time order.
+    pub reentries: Vec<(Entity, BodyState)>,
+    /// Every body whose motion changed: where it ends the update and its
+    /// velocity.
+    pub motions: Vec<(Entity, Motion)>,
+    /// Pairs that shattered, where they met, in time order.
+    pub shatters: Vec<ShatterPair>,
+    /// Contacts that bounced or separated a pair.
+    pub responses: usize,
+    /// Shatters the budget refused (the pair bounced).
+    pub refused: usize,
+    /// Contacts left for the next update at [`MAX_CONTACTS_PER_BODY`].
+    pub deferred: usize,
+}
+
+/// What a shatter needs besides the pair: the impact speed from which
+/// interacting bodies shatter, the time step and what a shatter may make.
+pub(super) struct Rules<'a> {
+    /// Impact speed `|v1 − v2|` from which a pair shatters.
+    pub threshold: f32,
+    /// The time step.
+    pub dt: f32,
+    /// The fragment floor, the body budget and the ids.
+    pub budget: ShatterBudget<'a>,
+}
+
+/// A body taking part in the update's contacts.
+struct Tracked {
+    entity: Entity,
+    state: BodyState,
+    /// Its path through the rest of the update.
+    path: SweptBody,
+    /// Bumped whenever the path changes: touches found on an older path
+    /// are stale.
+    version: u32,
+    /// Shattered or absorbed: in no further contact.
+    gone: bool,
+    /// Pushed apart once this update: not again (bodies piled on one
+    /// another would otherwise push each other back and forth).
+    separated: bool,
+    /// Whether its motion changed.
+    changed: bool,
+    /// The box the broad phase swept for it.
+    broad: Aabb,
+    /// The box within which its partners are known: `broad`, grown by
+    /// every search for what its new paths reach.
+    covered: Aabb,
+    /// Whether a path of it left `broad` (then the grid, which knows only
+    /// `broad`, cannot find it, and searches test it directly).
+    escaped: bool,
+    /// The pairs it is in (indices into the pair list).
+    pairs: Vec<u32>,
+}
+
+/// A touch found: when, which pair, on which paths.
+struct Touch {
+    meeting: Meeting,
+    pair: u32,
+    versions: [u32; 2],
+}
+
+impl Touch {
+    fn key(&self) -> (f64, u32) {
+        (self.meeting.time(), self.pair)
+    }
+}
+
+impl PartialEq for Touch {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Touch {}
+
+impl PartialOrd for Touch {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Touch {
+    /// Reversed, so that the heap gives the earliest touch first (ties:
+    /// the pair found first).
+    fn cmp(&self, other: &Self) -> Ordering {
+        let ((s, p), (t, q)) = (self.key(), other.key());
+        t.total_cmp(&s).then(q.cmp(&p))
+    }
+}
+
+/// The contacts' working state.
+struct Contacts<'n, N: Neighbourhood> {
+    world: &'n N,
+    bodies: Vec<Tracked>,
+    index: HashMap<Entity, u32>,
+    pairs: Vec<[u32; 2]>,
+    known: HashSet<[u32; 2]>,
+    touches: BinaryHeap<Touch>,
+    /// Bodies whose path left their broad-phase box, in the order they did.
+    escaped: Vec<u32>,
+}
+
+impl<N: Neighbourhood> Contacts<'_, N> {
+    /// The index of `entity` among the tracked bodies, tracking it (on the
+    /// path the drift gave it) if it is not yet.
+    fn track(&mut self, entity: Entity) -> Option<u32> {
+        if let Some(&i) = self.index.get(&entity) {
+            return Some(i);
+        }
+        let state = self.world.state(entity)?;
+        let i = self.bodies.len() as u32;
+        let broad = swept_box(state.previous, state.position, state.half_extents);
+        self.bodies.push(Tracked {
+            entity,
+            state,
+            path: SweptBody::from(&(&state).into()),
+            version: 0,
+            gone: false,
+            separated: false,
+            changed: false,
+            broad,
+            covered: broad,
+            escaped: false,
+            pairs: Vec::new(),
+        });
+        self.index.insert(entity, i);
+        Some(i)
+    }
+
+    /// Adds the pair `i`, `j` unless known or neither interacts; its index.
+    fn add_pair(&mut self, i: u32, j: u32) -> Option<u32> {
+        let (a, b) = (&self.bodies[i as usize], &self.bodies[j as usize]);
+        if i == j || (!a.state.interacts && !b.state.interacts) || !self.known.insert([i.min(j), i.max(j)]) {
+            return None;
+        }
+        let pair = self.pairs.len() as u32;
+        self.pairs.push([i, j]);
+        self.bodies[i as usize].pairs.push(pair);
+        self.bodies[j as usize].pairs.push(pair);
+        Some(pair)
+    }
+
+    /// Tests `pair` on the current paths; a touch found waits its turn.
+    fn test(&mut self, pair: u32) {
+        let [i, j] = self.pairs[pair as usize];
+        let (a, b) = (&self.bodies[i as usize], &self.bodies[j as usize]);
+        if a.gone || b.gone {
+            return;
+        }
+        if let Some(meeting) = first_contact(&a.path, &b.path) {
+            self.touches.push(Touch {
+                meeting,
+                pair,
+                versions: [a.version, b.version],
+            });
+        }
+    }
+
+    /// Body `i` took a new path: tested again against its pairs and
+    /// against every body the path reaches beyond what is known.
+    fn moved(&mut self, i: u32, path: SweptBody, separated: bool) {
+        let body = &mut self.bodies[i as usize];
+        body.path = path;
+        body.version += 1;
+        body.changed = true;
+        body.separated |= separated;
+        let region = path.swept_box();
+        let mut found = Vec::new();
+        // Bodies that escaped their broad-phase boxes: the grid knows them
+        // only by those.
+        for &m in &self.escaped {
+            let other = &self.bodies[m as usize];
+            if m != i && !other.gone && other.path.swept_box().overlaps(&region) {
+                found.push(m);
+            }
+        }
+        let body = &self.bodies[i as usize];
+        if !within(&region, &body.covered) {
+            let mut reached = Vec::new();
+            self.world.reached(&region, &mut reached);
+            let mut states: Vec<(BodyState, Entity)> = reached
+                .into_iter()
+                .collect::<HashSet<_>>()
+                .into_iter()
+                .filter_map(|e| Some((self.world.state(e)?, e)))
+                .filter(|(s, _)| swept_box(s.previous, s.position, s.half_extents).overlaps(&region))
+                .collect();
+            states.sort_unstable_by_key(|(s, _)| s.id);
+            for (_, entity) in states {
+                if let Some(m) = self.track(entity) {
+                    found.push(m);
+                }
+            }
+            let body = &mut self.bodies[i as usize];
+            body.covered = union(&body.covered, &region);
+        }
+        let body = &mut self.bodies[i as usize];
+        if !body.escaped && !within(&region, &body.broad) {
+            body.escaped = true;
+            self.escaped.push(i);
+        }
+        for m in found {
+            self.add_pair(i, m);
+        }
+        for k in 0..self.bodies[i as usize].pairs.len() {
+            let pair = self.bodies[i as usize].pairs[k];
+            self.test(pair);
+        }
+    }
+
+    /// The state of body `i` at share `s` of the update, moving as it does
+    /// then.
+    fn state_at(&self, i: u32, s: f64) -> BodyState {
+        let body = &self.bodies[i as usize];
+        BodyState {
+            position: body.path.at(s).as_vec3(),
+            velocity: body.path.velocity.as_vec3(),
+            ..body.state
+        }
+    }
+}
+
+/// Whether `inner` lies within `outer`.
+fn within(inner: &Aabb, outer: &Aabb) -> bool {
+    inner.min.cmpge(outer.min).all() && inner.max.cmple(outer.max).all()
+}
+
+/// The smallest box holding both.
+fn union(a: &Aabb, b: &Aabb) -> Aabb {
+    Aabb {
+        min: a.min.min(b.min),
+        max: a.max.max(b.max),
+    }
+}
+
+/// Every contact of the update in time order, starting from the broad
+/// phase's `pairs` (first touches found as `stage` splits them), until no
+/// contact is left or [`MAX_CONTACTS_PER_BODY`] is reached.
+pub(super) fn resolve_in_time_order<N: Neighbourhood>(
+    pairs: &[Pair],
+    world: &N,
+    stage: StageExecution<'_>,
+    mut rules: Rules<'_>,
+) -> Resolved {
+    let mut contacts = Contacts::of_pairs(pairs, world, stage);
+    let mut resolved = Resolved::default();
+    let limit = MAX_CONTACTS_PER_BODY * contacts.bodies.len();
+    let mut changes = 0;
+    while let Some(touch) = contacts.touches.pop() {
+        let [i, j] = contacts.pairs[touch.pair as usize];
+        let (a, b) = (&contacts.bodies[i as usize], &contacts.bodies[j as usize]);
+        if a.gone || b.gone || [a.version, b.version] != touch.versions {
+            continue;
+        }
+        if changes >= limit {
+            resolved.deferred += 1;
+            continue;
+        }
+        changes += contacts.act([i, j], touch.meeting, &mut rules, &mut resolved);
+    }
+    resolved.motions = contacts
+        .bodies
+        .iter()
+        .filter(|b| b.changed && !b.gone)
+        .map(|b| {
+            (
+                b.entity,
+                Motion {
+                    position: b.path.end.as_vec3(),
+                    velocity: b.path.velocity.as_vec3(),
+                },
+            )
+        })
+        .collect();
+    resolved
+}
+
+impl<'n, N: Neighbourhood> Contacts<'n, N> {
+    /// The bodies of the broad phase's `pairs`, and each pair's first
+    /// touch on the drift's paths (found as `stage` splits the pairs).
+    fn of_pairs(pairs: &[Pair], world: &'n N, stage: StageExecution<'_>) -> Self {
+        let mut contacts = Self {
+            world,
+            bodies: Vec::new(),
+            index: HashMap::default(),
+            pairs: Vec::new(),
+            known: HashSet::default(),
+            touches: BinaryHeap::new(),
+            escaped: Vec::new(),
+        };
+        for pair in pairs {
+            if let (Some(i), Some(j)) = (contacts.track(pair.entity_a), contacts.track(pair.entity_b)) {
+                contacts.add_pair(i, j);
+            }
+        }
+        let bodies = &contacts.bodies;
+        let first: Vec<Option<Meeting>> = stage
+            .map_chunks(contacts.pairs.as_slice(), |chunk: &[[u32; 2]]| {
+                chunk
+                    .iter()
+                    .map(|&[i, j]| first_contact(&bodies[i as usize].path, &bodies[j as usize].path))
+                    .collect::<Vec<_>>()
+            })
+            .concat();
+        contacts.touches = first
+            .into_iter()
+            .enumerate()
+            .filter_map(|(pair, meeting)| {
+                Some(Touch {
+                    meeting: meeting?,
+                    pair: pair as u32,
+                    versions: [0, 0],
+                })
+            })
+            .collect();
+        contacts
+    }
+
+    /// The contact of bodies `i` and `j` at `meeting`, whose touch is
+    /// current: an absorber takes its partner; else a shatter (if the
+    /// budget allows it), a bounce or a separation. Returns how many paths
+    /// it changed.
+    fn act(&mut self, [i, j]: [u32; 2], meeting: Meeting, rules: &mut Rules<'_>, resolved: &mut Resolved) -> usize {
+        let s = meeting.time();
+        let (a, b) = (&self.bodies[i as usize], &self.bodies[j as usize]);
+        let (path_a, path_b) = (a.path, b.path);
+        let (entities, separated_before) = ([a.entity, b.entity], [a.separated, b.separated]);
+        if a.state.absorbs || b.state.absorbs {
+            for (k, other) in [(i, j), (j, i)] {
+                let (body, by) = (&self.bodies[k as usize], &self.bodies[other as usize]);
+                if by.state.absorbs && body.state.interacts && !body.gone {
+                    resolved.reentries.push((body.entity, self.state_at(k, s)));
+                    self.bodies[k as usize].gone = true;
+                    rules.budget.absorbed();
+                }
+            }
+            return 0;
+        }
+        let mut contact = respond_swept(&path_a, &path_b, meeting, rules.threshold, rules.dt);
+        if contact == Contact::Shatter {
+            let states = [self.state_at(i, s), self.state_at(j, s)];
+            if rules.budget.allows(&states[0], &states[1]) {
+                resolved.shatters.push(ShatterPair {
+                    entities,
+                    bodies: states,
+                    rest: ((1.0 - s) * f64::from(rules.dt)) as f32,
+                });
+                self.bodies[i as usize].gone = true;
+                self.bodies[j as usize].gone = true;
+                return 0;
+            }
+            resolved.refused += 1;
+            contact = respond_swept(&path_a, &path_b, meeting, f32::INFINITY, rules.dt);
+        }
+        let (paths, separated) = match contact {
+            Contact::Bounce(pa, pb) => ([pa, pb], false),
+            Contact::Separate(pa, pb)
+                if !(pa.is_some() && separated_before[0] || pb.is_some() && separated_before[1]) =>
+            {
+                ([pa, pb], true)
+            }
+            Contact::Separate(..) | Contact::Ignore | Contact::Shatter => return 0,
+        };
+        resolved.responses += 1;
+        let mut changed = 0;
+        for (k, path) in [i, j].into_iter().zip(paths) {
+            if let Some(path) = path {
+                changed += 1;
+                self.moved(k, path, separated);
+            }
+        }
+        changed
+    }
+}
