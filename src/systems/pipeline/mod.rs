@@ -13,7 +13,7 @@ mod timings;
 mod update_count;
 
 pub use fault::{Fault, SimulationFault, first_non_finite, no_fault};
-pub use pair_limit::{TooManyPairs, pair_limit};
+pub use pair_limit::{TooManyPairs, Travel, pair_limit, swept_pair_limit};
 pub use schedule::{BetweenUpdates, NextEventAt, SchedulePlugin, SimulationUpdate, run_due_events, run_updates};
 pub use stage_clock::Stage;
 pub use stages::{STAGE_COUNT, STAGES, SimulationSystems};

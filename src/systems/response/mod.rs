@@ -121,6 +121,12 @@ impl Neighbourhood for Lookup<'_, '_, '_> {
         self.bodies.get(entity).ok().map(BodyState::from_components)
     }
 
+    fn cells(&self, region: &Aabb, f: &mut dyn FnMut(u32)) {
+        if let Some(grid) = self.sorted.grid() {
+            grid.for_each_cell(region, f);
+        }
+    }
+
     fn reached(&self, region: &Aabb, out: &mut Vec<Entity>) {
         self.sorted.overlapping(region, |index| {
             let mut index = index as usize;

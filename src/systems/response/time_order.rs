@@ -44,6 +44,9 @@ pub(super) trait Neighbourhood {
     /// Appends to `out` every body whose box in this update's broad phase
     /// overlaps `region` (in any order; one may come more than once).
     fn reached(&self, region: &Aabb, out: &mut Vec<Entity>);
+    /// Calls `f` with every cell of the broad phase's grid that `region`
+    /// covers.
+    fn cells(&self, region: &Aabb, f: &mut dyn FnMut(u32));
 }
 
 /// What the contacts of an update did.
@@ -97,9 +100,10 @@ struct Tracked {
     /// The box within which its partners are known: `broad`, grown by
     /// every search for what its new paths reach.
     covered: Aabb,
-    /// Whether a path of it left `broad` (then the grid, which knows only
-    /// `broad`, cannot find it, and searches test it directly).
-    escaped: bool,
+    /// The box its current path sweeps.
+    reach: Aabb,
+    /// The last search (for what a new path reaches) that found it.
+    seen: u32,
     /// The pairs it is in (indices into the pair list).
     pairs: Vec<u32>,
 }
@@ -148,8 +152,12 @@ struct Contacts<'n, N: Neighbourhood> {
     pairs: Vec<[u32; 2]>,
     known: HashSet<[u32; 2]>,
     touches: BinaryHeap<Touch>,
-    /// Bodies whose path left their broad-phase box, in the order they did.
-    escaped: Vec<u32>,
+    /// Bodies whose path left their broad-phase box (which the grid knows
+    /// them by), filed under the grid's cells their paths cover (an entry
+    /// may be stale: its body's path has moved on).
+    escaped_in: HashMap<u32, Vec<u32>>,
+    /// Searches made so far (see [`Tracked::seen`]).
+    stamp: u32,
 }
 
 impl<N: Neighbourhood> Contacts<'_, N> {
@@ -172,7 +180,8 @@ impl<N: Neighbourhood> Contacts<'_, N> {
             changed: false,
             broad,
             covered: broad,
-            escaped: false,
+            reach: broad,
+            seen: 0,
             pairs: Vec::new(),
         });
         self.index.insert(entity, i);
@@ -217,39 +226,66 @@ impl<N: Neighbourhood> Contacts<'_, N> {
         body.changed = true;
         body.separated |= separated;
         let region = path.swept_box();
+        body.reach = region;
+        // What the new path may meet beyond its pairs, each tracked body
+        // once (stamped with this search) and only where its own path's
+        // box overlaps the new one's.
+        self.stamp += 1;
+        let stamp = self.stamp;
+        self.bodies[i as usize].seen = stamp;
+        let covered = within(&region, &self.bodies[i as usize].covered);
         let mut found = Vec::new();
-        // Bodies that escaped their broad-phase boxes: the grid knows them
-        // only by those.
-        for &m in &self.escaped {
-            let other = &self.bodies[m as usize];
-            if m != i && !other.gone && other.path.swept_box().overlaps(&region) {
+        let bodies = &mut self.bodies;
+        let mut take = |m: u32, found: &mut Vec<u32>| {
+            let other = &mut bodies[m as usize];
+            if other.seen != stamp && !other.gone && other.reach.overlaps(&region) {
+                other.seen = stamp;
                 found.push(m);
             }
-        }
-        let body = &self.bodies[i as usize];
-        if !within(&region, &body.covered) {
+        };
+        // Bodies that escaped their broad-phase boxes, which the grid knows
+        // only by those: filed by the grid's cells their paths cover.
+        self.world.cells(&region, &mut |cell| {
+            for &m in self.escaped_in.get(&cell).map_or(&[][..], Vec::as_slice) {
+                take(m, &mut found);
+            }
+        });
+        if !covered {
             let mut reached = Vec::new();
             self.world.reached(&region, &mut reached);
-            let mut states: Vec<(BodyState, Entity)> = reached
-                .into_iter()
-                .collect::<HashSet<_>>()
-                .into_iter()
-                .filter_map(|e| Some((self.world.state(e)?, e)))
-                .filter(|(s, _)| swept_box(s.previous, s.position, s.half_extents).overlaps(&region))
-                .collect();
-            states.sort_unstable_by_key(|(s, _)| s.id);
-            for (_, entity) in states {
+            let mut new = Vec::new();
+            for entity in reached {
+                match self.index.get(&entity) {
+                    Some(&m) => take(m, &mut found),
+                    None => new.extend(
+                        self.world
+                            .state(entity)
+                            .filter(|s| swept_box(s.previous, s.position, s.half_extents).overlaps(&region))
+                            .map(|s| (s.id, entity)),
+                    ),
+                }
+            }
+            new.sort_unstable();
+            new.dedup();
+            found.sort_unstable();
+            for (_, entity) in new {
                 if let Some(m) = self.track(entity) {
                     found.push(m);
                 }
             }
             let body = &mut self.bodies[i as usize];
             body.covered = union(&body.covered, &region);
+        } else {
+            found.sort_unstable();
         }
-        let body = &mut self.bodies[i as usize];
-        if !body.escaped && !within(&region, &body.broad) {
-            body.escaped = true;
-            self.escaped.push(i);
+        if !within(&region, &self.bodies[i as usize].broad) {
+            let escaped_in = &mut self.escaped_in;
+            self.world.cells(&region, &mut |cell| {
+                let filed = escaped_in.entry(cell).or_default();
+                if filed.last() != Some(&i) {
+                    filed.push(i);
+                }
+            });
         }
         for m in found {
             self.add_pair(i, m);
@@ -338,7 +374,8 @@ impl<'n, N: Neighbourhood> Contacts<'n, N> {
             pairs: Vec::new(),
             known: HashSet::default(),
             touches: BinaryHeap::new(),
-            escaped: Vec::new(),
+            escaped_in: HashMap::default(),
+            stamp: 0,
         };
         for pair in pairs {
             if let (Some(i), Some(j)) = (contacts.track(pair.entity_a), contacts.track(pair.entity_b)) {

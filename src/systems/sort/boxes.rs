@@ -127,6 +127,21 @@ impl<'a, const SWEPT: bool> BodyColumns<'a, SWEPT> {
         (table, index - self.starts[table])
     }
 
+    /// The longest distance a body moved over the update (from its
+    /// previous position to its position), and that body's largest edge.
+    pub fn longest_travel(&self) -> (f32, f32) {
+        let mut longest = (0.0f32, 0.0f32);
+        for (_, _, positions, previous, half_extents) in &self.tables {
+            for ((p, q), h) in positions.iter().zip(previous.iter()).zip(half_extents.iter()) {
+                let distance = p.0.distance(q.0);
+                if distance > longest.0 {
+                    longest = (distance, 2.0 * h.0.max_element());
+                }
+            }
+        }
+        longest
+    }
+
     /// The id and entity of the body with this index.
     pub fn body(&self, index: usize) -> (BodyId, Entity) {
         let (table, row) = self.locate(index);

@@ -81,7 +81,12 @@ impl SortedBoxes {
             return;
         };
         grid.for_each_cell(region, |cell| {
+            // In sweep order, by the boxes' lower x: none after the first
+            // that starts past the region's end.
             for filed in self.in_sweep_order(cell as usize) {
+                if filed.aabb.min.x > region.max.x {
+                    break;
+                }
                 if filed.aabb.overlaps(region) {
                     f(filed.index);
                 }

@@ -18,8 +18,9 @@ use bevy::prelude::*;
 pub use sweep_pairs::{id_pairs, sweep_and_prune, sweep_sorted};
 
 use crate::components::BodyId;
-use crate::resources::SimulationSettings;
-use crate::systems::sort::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes};
+use crate::resources::{CollisionDetection, MemoryBudget, SimulationSettings};
+use crate::systems::pipeline::{Travel, pair_limit, swept_pair_limit};
+use crate::systems::sort::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sort_boxes};
 use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
 
 /// Two overlapping bodies: ids `a < b` and their entities.
@@ -50,12 +51,25 @@ impl Plugin for SweepPlugin {
     }
 }
 
+/// How many pairs swept detection's sweep may find: past [`pair_limit`]
+/// only once the boxes where the update ends were found not piled, then as
+/// many as the last update needed (doubled as they grow), up to
+/// [`swept_pair_limit`].
+#[derive(Default)]
+struct SweptAllowance {
+    /// The pairs allowed (0: [`pair_limit`]).
+    limit: usize,
+    /// The boxes where the update ends, sorted to count their pairs.
+    ends: SortedBoxes,
+}
+
 fn sweep(
     settings: Res<SimulationSettings>,
     mut stage: Stage,
     mut pairs: ResMut<OverlappingPairs>,
     sorted: Res<SortedBoxes>,
     bodies: BroadPhaseQuery,
+    (memory, mut allowance): (Option<Res<MemoryBudget>>, Local<SweptAllowance>),
     mut fault: ResMut<SimulationFault>,
 ) {
     pairs.0.clear();
@@ -68,11 +82,36 @@ fn sweep(
     // The sort stage ran on these bodies just before (nothing spawns or
     // despawns between the two stages).
     debug_assert_eq!(sorted.len(), columns.len(), "the sort saw other bodies");
-    let index_pairs = match sweep_sorted(&sorted, clock.execution(columns.len())) {
-        Ok(pairs) => pairs,
-        Err(e) => {
-            fault.stop(Fault::PileUp(e));
-            Vec::new()
+    let n = columns.len();
+    let swept = settings.collision_detection == CollisionDetection::Swept;
+    let most = swept_pair_limit(n, memory.and_then(|m| m.limit).map(|l| l.free_bytes));
+    let mut limit = if swept {
+        allowance.limit.clamp(pair_limit(n), most)
+    } else {
+        pair_limit(n)
+    };
+    let index_pairs = loop {
+        match sweep_sorted(&sorted, clock.execution(n), limit) {
+            Ok(pairs) => break pairs,
+            Err(e) if swept && limit < most => {
+                // Long swept boxes or bodies piled up? Where the update
+                // ends, piled bodies overlap as much.
+                sort_boxes(&columns, clock.execution(n), &mut allowance.ends);
+                if let Err(piled) = sweep_sorted(&allowance.ends, clock.execution(n), pair_limit(n)) {
+                    fault.stop(Fault::PileUp(piled));
+                    break Vec::new();
+                }
+                limit = e.limit.saturating_mul(2).min(most);
+                allowance.limit = limit;
+            }
+            Err(mut e) => {
+                if swept {
+                    let (distance, edge) = columns.longest_travel();
+                    e.long_sweeps = Some(Travel { distance, edge });
+                }
+                fault.stop(Fault::PileUp(e));
+                break Vec::new();
+            }
         }
     };
     pairs.0.extend(index_pairs.iter().map(|&(i, j)| {

@@ -59,15 +59,16 @@ fn sweep_cells(sorted: &SortedBoxes, grid: &Grid, cells: Range<usize>, budget: &
 /// The sweep stage's work: every overlapping pair of the sorted boxes
 /// exactly once, as input indices `(i, j)` with box `i` first in sweep
 /// order, cell after cell; ranges of cells are the chunks. Fails, in both
-/// modes alike, when there are more than [`pair_limit`] pairs.
-pub fn sweep_sorted(sorted: &SortedBoxes, stage: StageExecution<'_>) -> Result<Vec<(u32, u32)>, TooManyPairs> {
+/// modes alike, when there are more than `limit` pairs.
+pub fn sweep_sorted(
+    sorted: &SortedBoxes,
+    stage: StageExecution<'_>,
+    limit: usize,
+) -> Result<Vec<(u32, u32)>, TooManyPairs> {
     let Some(grid) = sorted.grid() else {
         return Ok(Vec::new());
     };
-    let too_many = TooManyPairs {
-        limit: pair_limit(sorted.len()),
-        boxes: sorted.len(),
-    };
+    let too_many = TooManyPairs::piled(limit, sorted.len());
     let budget = PairBudget {
         found: AtomicUsize::new(0),
         limit: too_many.limit,
@@ -96,6 +97,7 @@ pub fn sweep_and_prune<B: BoxSource + ?Sized>(
     sweep_sorted(
         sorted,
         execution.for_stage(SimulationSystems::Sweep.name(), boxes.len()),
+        pair_limit(boxes.len()),
     )
 }
 
@@ -339,14 +341,7 @@ mod tests {
         for mode in [ExecutionMode::Sequential, ExecutionMode::Parallel] {
             let exec = Execution::new(mode, 3).unwrap().fine_grained();
             let failed = sweep_and_prune(piled.as_slice(), &exec, &mut SortedBoxes::default());
-            assert_eq!(
-                failed,
-                Err(TooManyPairs {
-                    limit: MIN_PAIR_LIMIT,
-                    boxes: 2000
-                }),
-                "{mode:?}"
-            );
+            assert_eq!(failed, Err(TooManyPairs::piled(MIN_PAIR_LIMIT, 2000)), "{mode:?}");
             let found = sweep_and_prune(crowd.as_slice(), &exec, &mut SortedBoxes::default()).unwrap();
             assert_eq!(found.len(), 1400 * 1399 / 2, "{mode:?}");
         }
