@@ -134,8 +134,14 @@ fn summary(scenario: &Scenario, report: &HeadlessReport, how: &str, outputs: Out
     .filter_map(|(what, path)| path.map(|p| format!("; {what} written to {}", p.display())))
     .collect();
     let collisions = &report.collisions;
+    // Contacts past the bound of an update (docs/design.md, "Contacts in
+    // time order"), said only where there were any.
+    let deferred = match collisions.deferred_total {
+        0 => String::new(),
+        n => format!(", {n} contacts deferred to the next update"),
+    };
     format!(
-        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused, {} reentries{events}) in {:.3} s, \
+        "{}: {} updates of {} bodies ({} at the end, {} shatters, {} refused, {} reentries{deferred}{events}) in {:.3} s, \
          {:.3} ms/update ({} ms), {how}{written}; state hash {}",
         scenario.name,
         report.updates,

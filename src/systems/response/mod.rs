@@ -51,6 +51,8 @@ pub struct CollisionStats {
     /// Contacts left for the next update because the update's contacts
     /// reached [`MAX_CONTACTS_PER_BODY`] (swept detection).
     pub deferred: usize,
+    /// Contacts deferred since the start.
+    pub deferred_total: u64,
     /// Pairs that met fast enough to shatter this update but bounced: their
     /// fragments would have been below `min_fragment_size`, there would
     /// have been more than `max_bodies` bodies, or a fragment's id would
@@ -221,6 +223,7 @@ fn respond_to_pairs(
     if !(settings.stages.collisions && settings.stages.collision_response) {
         *stats = CollisionStats {
             shatters_total: stats.shatters_total,
+            deferred_total: stats.deferred_total,
             refused_total: stats.refused_total,
             reentries_total: stats.reentries_total,
             ..CollisionStats::default()
@@ -275,6 +278,7 @@ fn respond_to_pairs(
         pairs: pairs.0.len(),
         responses: resolved.responses,
         deferred: resolved.deferred,
+        deferred_total: stats.deferred_total + resolved.deferred as u64,
         shatters: pending.0.len(),
         shatters_total: stats.shatters_total + pending.0.len() as u64,
         refused_shatters: refused,
