@@ -291,17 +291,23 @@ pub fn least(overlap: DVec3) -> usize {
     (0..3).fold(0, |best, k| if overlap[k] < overlap[best] { k } else { best })
 }
 
+/// How a push apart is shared between two bodies that interact or not:
+/// half each when both do, all of it to the one that does otherwise.
+pub fn push_shares(a_interacts: bool, b_interacts: bool) -> (f64, f64) {
+    match (a_interacts, b_interacts) {
+        (true, true) => (0.5, 0.5),
+        (true, false) => (1.0, 0.0),
+        (false, _) => (0.0, 1.0),
+    }
+}
+
 /// Pushes the boxes apart along the axis of least overlap (ties: lowest
 /// axis), half each when both interact; velocities unchanged.
 fn separate(a: &ContactBody, b: &ContactBody, overlap: DVec3) -> Outcome {
     let k = least(overlap);
     let (pa, pb) = (a.position.as_dvec3(), b.position.as_dvec3());
     let direction = if pa[k] >= pb[k] { 1.0 } else { -1.0 };
-    let (share_a, share_b) = match (a.interacts, b.interacts) {
-        (true, true) => (0.5, 0.5),
-        (true, false) => (1.0, 0.0),
-        (false, _) => (0.0, 1.0),
-    };
+    let (share_a, share_b) = push_shares(a.interacts, b.interacts);
     let shift = |p: DVec3, amount: f64| {
         let mut p = p;
         p[k] += amount;

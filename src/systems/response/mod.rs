@@ -154,13 +154,14 @@ struct Records<'w> {
 /// Discrete detection's response: the absorbers' partners first (where
 /// `absorbers` are), then the greedy matching in pair order, each matched
 /// pair's outcome (in parallel as `stage` splits them), the shatter budget
-/// in pair order, and every outcome written back.
+/// in pair order (from the update's `body_count` bodies), and every
+/// outcome written back.
 fn respond_discrete(
     pairs: &[Pair],
     (bodies, busy): (&mut ContactQuery, &mut HashSet<Entity>),
     absorbers: bool,
     (settings, threshold, next_id): (&SimulationSettings, f32, NextBodyId),
-    stage: StageExecution<'_>,
+    (stage, body_count): (StageExecution<'_>, usize),
     pending: &mut PendingShatters,
 ) -> Resolved {
     let dt = settings.time_step;
@@ -175,7 +176,7 @@ fn respond_discrete(
         let (_, [a, b]) = &matched[index];
         respond(&a.into(), &b.into(), threshold, dt)
     };
-    let body_count = bodies.iter().len() - reentries.len();
+    let body_count = body_count - reentries.len();
     let mut outcomes: Vec<Outcome> = stage
         .map_chunks_of_at_least(0..matched.len(), PAIRS_PER_CHUNK, |range| {
             range.map(|index| outcome(index, threshold)).collect::<Vec<_>>()
@@ -262,7 +263,7 @@ fn respond_to_pairs(
             (&mut bodies, &mut busy),
             !absorbers.is_empty(),
             (&settings, threshold, *next_id),
-            clock.execution(body_count),
+            (clock.execution(body_count), body_count),
             &mut pending,
         )
     };

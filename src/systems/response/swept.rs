@@ -9,7 +9,9 @@
 
 use bevy::math::DVec3;
 
-use super::contact::{ContactBody, Motion, Outcome, bounce_velocities, least, nearest_on_box, respond_to_ball};
+use super::contact::{
+    ContactBody, Motion, Outcome, bounce_velocities, least, nearest_on_box, push_shares, respond_to_ball,
+};
 use crate::physics::Aabb;
 
 /// A body on its straight path through the rest of the update: at `start`
@@ -321,11 +323,7 @@ fn overlapping(a: &SweptBody, b: &SweptBody, s: f64) -> Contact {
         return Contact::Ignore;
     }
     let direction = if then[k] >= 0.0 { 1.0 } else { -1.0 };
-    let (share_a, share_b) = match (a.interacts, b.interacts) {
-        (true, true) => (0.5, 0.5),
-        (true, false) => (1.0, 0.0),
-        (false, _) => (0.0, 1.0),
-    };
+    let (share_a, share_b) = push_shares(a.interacts, b.interacts);
     let pushed = |body: &SweptBody, amount: f64| {
         let mut moved = *body;
         moved.end[k] += amount;
