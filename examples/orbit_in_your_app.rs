@@ -15,7 +15,7 @@
 use std::f64::consts::TAU;
 
 use bevy::prelude::*;
-use kessler::components::{Absorbs, BodyState, GravityRole, Immovable, Mass, Position, Spherical, Velocity};
+use kessler::components::{Absorbs, BodyState, GravityRole, Mass, NonInteracting, Position, Spherical, Velocity};
 use kessler::execution::{Execution, ExecutionMode};
 use kessler::maths::sin_cos;
 use kessler::physics::Totals;
@@ -67,7 +67,7 @@ pub fn app(execution: Execution) -> App {
 /// [`GravityRole`].
 fn spawn_bodies(mut commands: Commands, mut ids: ResMut<NextBodyId>) {
     // The planet pulls (a gravity source) and is not pulled; it is a ball
-    // (`Spherical`) that collisions never move (`Immovable`, which is what
+    // (`Spherical`) that collisions never move (`NonInteracting`, which is what
     // `interacts: false` means) and that absorbs whatever falls on it. The
     // bundle leaves its role (no adopter) and these markers to us.
     let planet = BodyState::new_box(
@@ -79,7 +79,7 @@ fn spawn_bodies(mut commands: Commands, mut ids: ResMut<NextBodyId>) {
         GravityRole::Source,
         false,
     );
-    commands.spawn((planet.bundle(), planet.role, Immovable, Spherical, Absorbs));
+    commands.spawn((planet.bundle(), planet.role, NonInteracting, Spherical, Absorbs));
 
     // Cubes of edge 2 and mass 1 on a circular orbit: speed sqrt(G M / r).
     let speed = (G * PLANET_MASS / RING_RADIUS).sqrt();
@@ -116,7 +116,7 @@ fn step_simulation(world: &mut World) {
 /// totals and energy, and what the collisions did; ends the app after
 /// [`UPDATES`] updates.
 fn report(
-    bodies: Query<(&Mass, &Velocity, &Position), Without<Immovable>>,
+    bodies: Query<(&Mass, &Velocity, &Position), Without<NonInteracting>>,
     stats: Res<CollisionStats>,
     fault: Res<SimulationFault>,
     updates: Res<UpdateCount>,

@@ -36,7 +36,7 @@
 //! let (mass, radius) = (4000.0, 400.0);
 //! let speed = (6.674_f32 * mass / radius).sqrt();
 //! let planet = BodyState::new_box(planet, Vec3::ZERO, Vec3::ZERO, mass, Vec3::splat(50.0), GravityRole::Source, false);
-//! world.spawn((planet.bundle(), GravityRole::Source, Immovable));
+//! world.spawn((planet.bundle(), GravityRole::Source, NonInteracting));
 //! let satellite = BodyState::new_box(
 //!     satellite,
 //!     Vec3::new(radius, 0.0, 0.0),
@@ -52,7 +52,7 @@
 //!     app.update();
 //! }
 //! let world = app.world_mut();
-//! let mut satellites = world.query_filtered::<&Position, Without<Immovable>>();
+//! let mut satellites = world.query_filtered::<&Position, Without<NonInteracting>>();
 //! let r = satellites.single(world).unwrap().0.length();
 //! assert!((r - radius).abs() < 0.5, "the orbit stays round: {r}");
 //! ```
@@ -73,7 +73,7 @@
 //! position, velocity, mass, half-extents (every body is a box) — its
 //! [`GravityRole`](components::GravityRole) where it is no adopter (a body
 //! without one is attracted and attracts nothing, as debris is) and, on
-//! the few that are one, the markers [`Immovable`](components::Immovable)
+//! the few that are one, the markers [`NonInteracting`](components::NonInteracting)
 //! (collisions never move it: a planet), [`Spherical`](components::Spherical)
 //! (a ball) and [`Absorbs`](components::Absorbs) (removes what falls on
 //! it). [`BodyState`](components::BodyState) is a body as plain data, and

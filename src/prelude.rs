@@ -5,7 +5,7 @@
 
 pub use crate::Simulation;
 pub use crate::components::{
-    Absorbs, BodyBundle, BodyId, BodyState, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition,
+    Absorbs, BodyBundle, BodyId, BodyState, GravityRole, HalfExtents, Mass, NonInteracting, Position, PreviousPosition,
     Spherical, Velocity, spawn_states,
 };
 pub use crate::execution::{Execution, ExecutionMode, SplitPolicy, WorkerPool};

@@ -177,6 +177,20 @@ fn missing_file_is_a_clear_error() {
     assert_one_clear_line(&out.stderr, &["no_such_scenario.ron", "cannot read"]);
 }
 
+/// A file that is not UTF-8 (saved as Latin-1) is named with the line and
+/// column of the first byte that is not, by every command that reads it.
+#[test]
+fn a_file_that_is_not_utf8_is_located() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("latin1.ron");
+    std::fs::write(&path, b"Scenario(\n    name: \"Caf\xe9 orbit\",\n)\n").unwrap();
+    for command in [&["validate"][..], &["headless", "--steps", "1"]] {
+        let out = kessler().args(command).arg(&path).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{command:?}");
+        assert_one_clear_line(&out.stderr, &["latin1.ron:2:15: byte 0xe9 is not UTF-8 text"]);
+    }
+}
+
 /// A command on `path` that must answer exit 2 at once, naming the path
 /// and the problem.
 fn refused_at_once(args: &[&std::ffi::OsStr], needles: &[&str]) {
@@ -275,6 +289,12 @@ fn outputs_that_are_not_regular_files_or_cannot_be_written_are_refused_before_wo
         ("--save-scenario", link.to_str().unwrap(), "is a symbolic link"),
         ("--dump", &existing_slash, "is a directory; give a file name"),
         ("--dump", "/proc/x.csv", "cannot write in folder /proc"),
+        // A file there, the folder there: neither is said to be missing.
+        (
+            "--dump",
+            "/proc/version",
+            "cannot write in folder /proc: the folder exists, but its file system makes no new files",
+        ),
     ] {
         refused_at_once(
             &[
@@ -452,6 +472,49 @@ fn a_run_that_overflows_stops_naming_the_update_and_the_body() {
             "the simulation stopped",
         ],
     );
+}
+
+/// What Kessler writes, Kessler loads: bodies spawned at one point at
+/// update 3 make a state no scenario may start from (a pile-up), so a
+/// snapshot of it is refused as one beyond ±1e30 is (exit 3, nothing
+/// written); a snapshot before the spawn is written and validates.
+#[test]
+fn a_snapshot_that_would_not_load_back_is_not_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("spawn.ron");
+    std::fs::write(
+        &scenario,
+        "Scenario(gravitational_constant: 0, bodies: [Body(position: (0, 0, 0))], events: [Spawn(update: 3, \
+         generators: [Cloud(count: 2000, center: (50, 0, 0), half_size: (0, 0, 0))])])",
+    )
+    .unwrap();
+    let snapshot = dir.path().join("snapshot.ron");
+    let out = kessler()
+        .args(["headless", "--steps", "3", "--save-scenario"])
+        .arg(&snapshot)
+        .arg(&scenario)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3), "{out:?}");
+    assert_one_clear_line(
+        &out.stderr,
+        &[
+            "spawn.ron: after 3 updates, the state would not load back as a scenario",
+            "the 2001 bodies overlap in more than",
+            "--save-scenario",
+            "no output was written",
+        ],
+    );
+    assert!(!snapshot.exists());
+    let out = kessler()
+        .args(["headless", "--steps", "2", "--save-scenario"])
+        .arg(&snapshot)
+        .arg(&scenario)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let out = kessler().arg("validate").arg(&snapshot).output().unwrap();
+    assert!(out.status.success(), "{out:?}");
 }
 
 /// A run whose outputs cannot all be written writes none of them. A body

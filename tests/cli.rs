@@ -185,14 +185,29 @@ fn calibrate_stores_what_split_auto_then_uses() {
     let (before, _) = headless(&config);
     assert!(before.contains("split auto (no calibration"), "{before}");
 
+    // The calibration file a link into a dotfiles folder, as the
+    // settings file may be: written through, the link kept.
+    let path = config.join("kessler").join("calibration.ron");
+    let dotfiles = dir.path().join("dotfiles");
+    std::fs::create_dir_all(&dotfiles).unwrap();
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("../../dotfiles/calibration.ron", &path).unwrap();
     let out = kessler()
         .args(["calibrate", "--threads", "2"])
         .env("XDG_CONFIG_HOME", &config)
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    #[cfg(unix)]
+    {
+        assert!(
+            path.symlink_metadata().unwrap().file_type().is_symlink(),
+            "the link was replaced"
+        );
+        assert!(dotfiles.join("calibration.ron").is_file());
+    }
     let printed = String::from_utf8(out.stdout).unwrap();
-    let path = config.join("kessler").join("calibration.ron");
     assert!(printed.contains(&path.display().to_string()), "{printed}");
     let calibration = kessler::calibration::load_calibration(&path).unwrap().unwrap();
     assert_eq!(calibration.threads, 2);
@@ -219,6 +234,37 @@ fn calibrate_stores_what_split_auto_then_uses() {
         warning.contains("warning") && warning.contains("calibration.ron"),
         "{warning}"
     );
+}
+
+/// A default calibration file that cannot be written (a link to a
+/// folder) is refused before the measuring, naming the file and the link,
+/// not an option the user never gave.
+#[cfg(unix)]
+#[test]
+fn calibrate_names_the_default_file_it_cannot_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("config");
+    let path = config.join("kessler").join("calibration.ron");
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::os::unix::fs::symlink(dir.path(), &path).unwrap();
+    let start = std::time::Instant::now();
+    let out = kessler()
+        .args(["calibrate", "--threads", "2"])
+        .env("XDG_CONFIG_HOME", &config)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(&format!(
+            "the calibration file {}, a link to {}: is a directory",
+            path.display(),
+            dir.path().display()
+        )),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("--out"), "{stderr}");
+    assert!(start.elapsed().as_secs() < 20, "measured before refusing");
 }
 
 /// What Kessler writes, Kessler reads: near the bound on ids (2^62) too.

@@ -721,6 +721,97 @@ fn damaged_members_are_found_and_run_again_bit_equal() {
     assert_eq!(read(out.join("aggregate.csv")), read(clean.join("aggregate.csv")));
 }
 
+/// A done member whose summary was damaged afterwards (garbage, or a state
+/// hash that is not its timeline's) is a damaged member: `status` names
+/// it, and the resume runs it again bit-equal to an undamaged run.
+#[test]
+fn damaged_summaries_are_damaged_members_run_again_bit_equal() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "small.ron", SMALL);
+    let (clean, out) = (tmp.path().join("clean"), tmp.path().join("damaged"));
+    for dir in [&clean, &out] {
+        let run = ensemble(&cfg, dir, &[]);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    }
+    let summary = |i: u64| out.join(format!("members/{i}/summary.ron"));
+    std::fs::write(summary(1), "Member(index: 1, garbage").unwrap();
+    let hash = column(&read(out.join("members/4/timeline.csv")), "state_hash")
+        .pop()
+        .unwrap();
+    let text = read(summary(4));
+    assert!(text.contains(&hash), "{text}");
+    std::fs::write(summary(4), text.replace(&hash, "0123456789abcdef")).unwrap();
+
+    let status = kessler().args(["ensemble", "status"]).arg(&out).output().unwrap();
+    let said = String::from_utf8_lossy(&status.stdout);
+    assert!(said.contains("4 done, 2 failed, 0 missing of 6 members"), "{said}");
+    assert!(said.contains("summary.ron:1:"), "the damage located: {said}");
+    assert!(
+        said.contains(&format!(
+            "summary.ron says state_hash 0123456789abcdef, where its ensemble and timeline say {hash}"
+        )),
+        "{said}"
+    );
+    let resumed = ensemble(&cfg, &out, &[]);
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    assert!(resumed.status.success(), "{stderr}");
+    assert!(stderr.contains("2 to run"), "{stderr}");
+    for index in 0..6 {
+        assert_eq!(results(&out, index), results(&clean, index), "member {index}");
+    }
+    assert_eq!(read(out.join("aggregate.csv")), read(clean.join("aggregate.csv")));
+}
+
+/// A file where the ensemble keeps a folder (`members`, `logs`, `slurm`,
+/// `slurm/logs`) is named with what to do, by the resume and by `status`
+/// alike, exit 2, the file untouched; moved away, the resume finishes the
+/// ensemble as an uninterrupted run does.
+#[test]
+fn a_file_where_the_ensemble_keeps_a_folder_is_named_with_what_to_do() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = config(tmp.path(), "small.ron", SMALL);
+    let clean = tmp.path().join("clean");
+    assert!(ensemble(&cfg, &clean, &[]).status.success());
+    for name in ["members", "logs", "slurm", "slurm/logs"] {
+        let out = tmp.path().join(name.replace('/', "_"));
+        assert!(ensemble(&cfg, &out, &[]).status.success());
+        let path = out.join(name);
+        let _ = std::fs::remove_dir_all(&path);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, "precious").unwrap();
+        for run in [
+            ensemble(&cfg, &out, &[]),
+            kessler().args(["ensemble", "status"]).arg(&out).output().unwrap(),
+        ] {
+            assert_eq!(
+                run.status.code(),
+                Some(2),
+                "{name}: {}",
+                String::from_utf8_lossy(&run.stderr)
+            );
+            assert_one_clear_line(
+                &run.stderr,
+                &[
+                    &path.display().to_string(),
+                    "is a file, where the ensemble keeps",
+                    "move it away (or remove it), then run the same command again",
+                ],
+            );
+        }
+        assert_eq!(read(&path), "precious", "{name}");
+        std::fs::remove_file(&path).unwrap();
+        let resumed = ensemble(&cfg, &out, &[]);
+        assert!(
+            resumed.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&resumed.stderr)
+        );
+        for index in 0..6 {
+            assert_eq!(results(&out, index), results(&clean, index), "{name}: member {index}");
+        }
+    }
+}
+
 /// The local executor's members end with it however it ends: SIGTERM is
 /// taken as Ctrl-C is (the running member ended, its folder removed), and
 /// after SIGKILL the kernel ends them (none goes on writing); a resume

@@ -9,7 +9,7 @@ mod example;
 
 use bevy::prelude::*;
 use kessler::Simulation;
-use kessler::components::{BodyId, BodyState, Immovable, Mass, Position, Velocity};
+use kessler::components::{BodyId, BodyState, Mass, NonInteracting, Position, Velocity};
 use kessler::execution::{Execution, ExecutionMode};
 use kessler::record::StateHash;
 use kessler::resources::SimulationSettings;
@@ -35,7 +35,7 @@ fn run(execution: Execution) -> App {
 /// id order.
 fn bodies(app: &mut App) -> Vec<(u64, Vec3, Vec3, f32)> {
     let world = app.world_mut();
-    let mut query = world.query_filtered::<(&BodyId, &Position, &Velocity, &Mass), Without<Immovable>>();
+    let mut query = world.query_filtered::<(&BodyId, &Position, &Velocity, &Mass), Without<NonInteracting>>();
     let mut bodies: Vec<_> = query.iter(world).map(|(id, p, v, m)| (id.0, p.0, v.0, m.0)).collect();
     bodies.sort_by_key(|b| b.0);
     bodies

@@ -613,6 +613,7 @@ const LADDERS: &[(&str, &[&str])] = &[
             "slurm_executor",
             "error",
             "folder",
+            "summary",
             "plot",
             "seeds",
             "config",
@@ -740,8 +741,8 @@ const LADDERS: &[(&str, &[&str])] = &[
         "crate::ui::session",
         &[
             "drive",
-            "output_failures",
             "snapshot_save",
+            "output_failures",
             "startup",
             "offscreen",
             "scene",

@@ -973,6 +973,111 @@ fn a_film_that_loses_pictures_fails_and_replaces_nothing() {
     }
 }
 
+/// A window run ends as a headless run of its scene does: stopped by a
+/// fault (an adopter 1e-10 from a heavy source overflows at update 4), it
+/// writes no state at the close (that state is half an update) and exits
+/// 3, saying why; a scripted save that fails (onto a file that exists,
+/// `/dev/full`, a folder, into a missing folder) says so on stderr, each,
+/// and the run exits 1. Offscreen and in a window alike.
+#[test]
+fn a_window_run_that_stops_or_loses_an_output_ends_as_a_headless_run_does() {
+    if !vulkan_available("a_window_run_that_stops_or_loses_an_output_ends_as_a_headless_run_does")
+        || !window_available("a_window_run_that_stops_or_loses_an_output_ends_as_a_headless_run_does")
+    {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let settings = dir.path().join("s.ron");
+    std::fs::write(&settings, "(updates_per_second: 60)").unwrap();
+    let overflow = dir.path().join("overflow.ron");
+    std::fs::write(
+        &overflow,
+        "Scenario(gravitational_constant: 1e6, bodies: [\
+         Body(position: (0, 0, 0), mass: 1e12, role: Source, interacts: false),\
+         Body(position: (1e-10, 0, 0), interacts: false)])",
+    )
+    .unwrap();
+    let (existing, folder) = (dir.path().join("existing.ron"), dir.path().join("folder"));
+    std::fs::write(&existing, "precious").unwrap();
+    std::fs::create_dir(&folder).unwrap();
+    let missing = dir.path().join("missing").join("s.ron");
+    let actions = dir.path().join("saves.ron");
+    std::fs::write(
+        &actions,
+        format!(
+            "[(frame: 1, action: SaveSession({existing:?})), (frame: 1, action: SaveSession(\"/dev/full\")), \
+             (frame: 2, action: SaveSession({folder:?})), (frame: 3, action: SaveSession({missing:?}))]"
+        ),
+    )
+    .unwrap();
+    let dump = dir.path().join("window.csv");
+    for offscreen in [true, false] {
+        let run = |args: &[&std::ffi::OsStr]| {
+            let mut command = if offscreen {
+                let mut command = isolated(KESSLER);
+                command
+                    .env_remove("DISPLAY")
+                    .env("WGPU_BACKEND", "vulkan")
+                    .args(["run", "--offscreen"]);
+                command
+            } else {
+                let mut command = under_xvfb();
+                command.arg("run");
+                command
+            };
+            command.arg("--settings").arg(&settings).args(args).output().unwrap()
+        };
+        std::fs::write(&dump, "precious").unwrap();
+        let out = run(&[
+            "--frames".as_ref(),
+            "20".as_ref(),
+            "--dump".as_ref(),
+            dump.as_os_str(),
+            overflow.as_os_str(),
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(3), "offscreen {offscreen}: {stderr}");
+        let said: Vec<&str> = stderr.lines().filter(|l| l.starts_with("kessler: error:")).collect();
+        assert_eq!(said.len(), 1, "{stderr}");
+        for needle in [
+            "overflow.ron: update 4: body 1 has a non-finite position",
+            "the simulation stopped; nothing was written at the close",
+        ] {
+            assert!(said[0].contains(needle), "{needle} not in {stderr}");
+        }
+        assert_eq!(std::fs::read_to_string(&dump).unwrap(), "precious");
+        assert!(!String::from_utf8_lossy(&out.stdout).contains("closed after"));
+
+        let out = run(&[
+            "--frames".as_ref(),
+            "6".as_ref(),
+            "--actions".as_ref(),
+            actions.as_os_str(),
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "offscreen {offscreen}: {stderr}");
+        let said: Vec<&str> = stderr
+            .lines()
+            .filter(|l| l.contains("cannot save the session"))
+            .collect();
+        assert_eq!(said.len(), 4, "offscreen {offscreen}: {stderr}");
+        for (line, path) in said.iter().zip([
+            existing.display().to_string(),
+            "/dev/full".to_owned(),
+            folder.display().to_string(),
+            missing.display().to_string(),
+        ]) {
+            assert!(line.contains(&path), "{path} not in {line}");
+        }
+        assert!(
+            stderr.contains("4 output(s) of the run could not be written"),
+            "{stderr}"
+        );
+        assert_eq!(std::fs::read_to_string(&existing).unwrap(), "precious");
+        assert_eq!(std::fs::read_dir(&folder).unwrap().count(), 0);
+    }
+}
+
 /// A benchmark's `Render` run with `offscreen: true` measures frames
 /// without a display.
 #[test]

@@ -8,19 +8,29 @@ use super::Failure;
 use crate::calibration::{calibrate, load_calibration, threads_to_measure};
 use crate::execution::available_threads;
 use crate::input::default_calibration_path;
-use crate::output::{Output, check_outputs};
+use crate::output::{Output, check_outputs, through_link};
 
 /// Runs the command.
 pub fn calibrate_command(threads: Option<usize>, out: Option<&Path>) -> Result<(), Failure> {
     let (threads, bounded) = threads_to_measure(threads.unwrap_or_else(available_threads), available_threads());
-    // A path given is checked before the measuring; the default one's
-    // folder is made if missing.
+    // A path given is checked before the measuring, as every output is.
+    // The default file is the user's own, like the settings: written
+    // through a symbolic link there (a dotfiles setup keeps its link), so
+    // the file the link names is what is checked, where something is there
+    // already (else its folder is made).
     let path = out.map_or_else(default_calibration_path, Path::to_owned);
-    // A path given is checked before the measuring; so is the default one
-    // where something is there already (else its folder is made).
-    // (It reads no file but the calibration it replaces.)
-    if out.is_some() || path.symlink_metadata().is_ok() {
-        check_outputs(&[Output::replacing("--out", &path)], &[])?;
+    match out {
+        Some(out) => check_outputs(&[Output::replacing("--out", out)], &[])?,
+        None if path.symlink_metadata().is_ok() => {
+            let target = through_link(&path).map_err(Failure::from)?;
+            let named = if target == path {
+                "the calibration file".to_owned()
+            } else {
+                format!("the calibration file {}, a link to", path.display())
+            };
+            check_outputs(&[Output::replacing(&named, &target)], &[])?;
+        }
+        None => {}
     }
     if let Some(warning) = bounded {
         eprintln!("kessler: warning: {warning}");

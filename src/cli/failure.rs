@@ -136,6 +136,7 @@ impl From<crate::ui::WindowError> for Failure {
         let code = match e {
             crate::ui::WindowError::App(code) => code,
             crate::ui::WindowError::Outputs(_) => EXIT_FAILURE,
+            crate::ui::WindowError::Stopped(_) => EXIT_SIMULATION_STOPPED,
             _ => EXIT_BAD_INPUT,
         };
         Self {

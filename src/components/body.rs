@@ -125,14 +125,14 @@ pub struct Spherical;
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Absorbs;
 
-/// Marker: an immovable collider (the planet; `interacts: false` in a
-/// scenario file): collisions never move or shatter it; the other body
+/// Marker: a non-interacting body (`interacts: false` in a scenario file;
+/// the planet, a wall): collisions never move or shatter it; the other body
 /// bounces off (or is absorbed, where it carries [`Absorbs`]). Gravity
 /// still moves it if it is an adopter, and its own velocity still moves it
 /// (a moving wall). Few bodies carry it, so it costs the rest nothing: each
 /// component a body has costs it 8 bytes of change ticks besides its own.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Immovable;
+pub struct NonInteracting;
 
 #[cfg(test)]
 mod tests {

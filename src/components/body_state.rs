@@ -1,29 +1,46 @@
 //! A body as plain data, and the bundle that spawns it.
 
+use bevy::ecs::query::QueryData;
 use bevy::prelude::*;
 
-use bevy::ecs::query::QueryData;
-
 use super::{
-    Absorbs, BodyId, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition, Spherical, Velocity,
+    Absorbs, BodyId, GravityRole, HalfExtents, Mass, NonInteracting, Position, PreviousPosition, Spherical, Velocity,
 };
 
-/// The query data a whole [`BodyState`] is read from.
-pub type BodyStateQuery = (
-    &'static BodyId,
-    &'static Position,
-    &'static PreviousPosition,
-    &'static Velocity,
-    &'static Mass,
-    &'static HalfExtents,
-    Option<&'static GravityRole>,
-    Has<Immovable>,
-    Has<Spherical>,
-    Has<Absorbs>,
-);
+/// Everything a body is made of, as query data: its position and velocity
+/// writable (the collision response moves bodies through it); read-only,
+/// [`BodyStateQuery`], it is what a whole [`BodyState`] is read from.
+#[derive(QueryData)]
+#[query_data(mutable)]
+pub struct BodyData {
+    /// The body's id.
+    pub id: &'static BodyId,
+    /// Where it is.
+    pub position: &'static mut Position,
+    /// Where it was before the last drift.
+    pub previous: &'static PreviousPosition,
+    /// How it moves.
+    pub velocity: &'static mut Velocity,
+    /// Its mass.
+    pub mass: &'static Mass,
+    /// Its box's half extents.
+    pub half_extents: &'static HalfExtents,
+    /// Its gravity role, where it is not an adopter.
+    pub role: Option<&'static GravityRole>,
+    /// Whether collisions never move it (`interacts: false`).
+    pub non_interacting: Has<NonInteracting>,
+    /// Whether it is a ball.
+    pub spherical: Has<Spherical>,
+    /// Whether it absorbs what touches it.
+    pub absorbs: Has<Absorbs>,
+}
+
+/// The query data a whole [`BodyState`] is read from: [`BodyData`],
+/// read-only.
+pub type BodyStateQuery = BodyDataReadOnly;
 
 /// One body's item of [`BodyStateQuery`].
-pub type BodyComponents<'a> = <BodyStateQuery as QueryData>::Item<'a, 'a>;
+pub type BodyComponents<'a> = BodyDataReadOnlyItem<'a, 'a>;
 
 /// Everything a body is made of but its role where it is not an adopter
 /// ([`spawn_with_roles`] spawns it with the bundle) and its markers
@@ -55,7 +72,7 @@ pub struct BodyState {
     pub half_extents: Vec3,
     /// See [`GravityRole`].
     pub role: GravityRole,
-    /// False for an immovable collider (see [`Immovable`]).
+    /// False for an non_interacting collider (see [`NonInteracting`]).
     pub interacts: bool,
     /// See [`PreviousPosition`]; a new body's is its position.
     pub previous: Vec3,
@@ -115,24 +132,23 @@ impl BodyState {
     }
 
     /// A body's state from its components.
-    pub fn from_components(components: BodyComponents<'_>) -> Self {
-        let (id, position, previous, velocity, mass, half_extents, role, immovable, spherical, absorbs) = components;
+    pub fn from_components(body: BodyComponents<'_>) -> Self {
         Self {
-            id: *id,
-            position: position.0,
-            velocity: velocity.0,
-            mass: mass.0,
-            half_extents: half_extents.0,
-            role: GravityRole::of(role),
-            interacts: !immovable,
-            previous: previous.0,
-            spherical,
-            absorbs,
+            id: *body.id,
+            position: body.position.0,
+            velocity: body.velocity.0,
+            mass: body.mass.0,
+            half_extents: body.half_extents.0,
+            role: GravityRole::of(body.role),
+            interacts: !body.non_interacting,
+            previous: body.previous.0,
+            spherical: body.spherical,
+            absorbs: body.absorbs,
         }
     }
 
     /// The bundle that spawns this body (a body that is no adopter also
-    /// needs its [`GravityRole`], an immovable one [`Immovable`], a ball
+    /// needs its [`GravityRole`], an non_interacting one [`NonInteracting`], a ball
     /// [`Spherical`], an absorber [`Absorbs`]: [`spawn_states`] adds them).
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {
@@ -153,7 +169,7 @@ impl BodyState {
 }
 
 /// Spawns `bodies` into `world`, each with its role where it is no adopter
-/// and its markers (an immovable collider's [`Immovable`], a ball's
+/// and its markers (an non_interacting collider's [`NonInteracting`], a ball's
 /// [`Spherical`], an absorber's [`Absorbs`]), in the order given.
 pub fn spawn_states(world: &mut World, bodies: &[BodyState]) {
     let entities = spawn_with_roles(world, bodies);
@@ -217,7 +233,7 @@ impl<I: Iterator> Iterator for Counted<I> {
     }
 }
 
-/// Gives a spawned body its markers: [`Immovable`] where it does not
+/// Gives a spawned body its markers: [`NonInteracting`] where it does not
 /// interact, [`Spherical`] for a ball, [`Absorbs`] for an absorber (its role
 /// comes with the spawn: [`spawn_with_roles`]). Each moves the body to
 /// another table, where it is the last row, so that the tables' order
@@ -228,7 +244,7 @@ pub fn insert_markers(world: &mut World, entity: Entity, body: &BodyState) {
     }
     let mut entity = world.entity_mut(entity);
     if !body.interacts {
-        entity.insert(Immovable);
+        entity.insert(NonInteracting);
     }
     if body.spherical {
         entity.insert(Spherical);

@@ -4,8 +4,8 @@ mod body;
 mod body_state;
 
 pub use body::{
-    Absorbs, BodyId, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition, Spherical, Velocity,
+    Absorbs, BodyId, GravityRole, HalfExtents, Mass, NonInteracting, Position, PreviousPosition, Spherical, Velocity,
 };
 pub use body_state::{
-    BodyBundle, BodyComponents, BodyState, BodyStateQuery, insert_markers, spawn_states, spawn_with_roles,
+    BodyBundle, BodyComponents, BodyData, BodyState, BodyStateQuery, insert_markers, spawn_states, spawn_with_roles,
 };

@@ -21,6 +21,7 @@ use ron::extensions::Extensions;
 use serde::{Deserialize, Serialize};
 
 use super::config::EnsembleConfig;
+use super::summary::MemberSummary;
 use crate::input::{InputError, node_kind, parse_ron, read_text};
 use crate::output::CsvTable;
 use crate::output::{OutputError, OutputProblem, WriteError, probe, write_atomically};
@@ -279,6 +280,39 @@ impl EnsembleFolder {
         Ok((folder, None))
     }
 
+    /// The folders an ensemble keeps its files in, with what each holds.
+    const SUBFOLDERS: [(&'static str, &'static str); 4] = [
+        ("members", "its members' results"),
+        ("logs", "its local members' stderr"),
+        ("slurm", "its Slurm job script and ids"),
+        ("slurm/logs", "its Slurm members' output"),
+    ];
+
+    /// Checks that each folder the ensemble keeps files in is a folder (or
+    /// a link to one) or missing (it is made when needed): a file or
+    /// anything else there is named, with what to do.
+    pub fn check_layout(&self) -> Result<(), InputError> {
+        for (name, holds) in Self::SUBFOLDERS {
+            let path = self.root.join(name);
+            let kind = match path.symlink_metadata() {
+                Ok(meta) if meta.is_dir() || (meta.file_type().is_symlink() && path.is_dir()) => continue,
+                Ok(meta) if meta.is_file() => "a file",
+                Ok(meta) => node_kind(meta.file_type()),
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+                Err(e) => {
+                    return Err(InputError::new(path.display().to_string(), e.to_string()));
+                }
+            };
+            return Err(InputError::new(
+                path.display().to_string(),
+                format!(
+                    "is {kind}, where the ensemble keeps {holds} in a folder; move it away (or remove it), then run the same command again"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// The folder at `dir`, which must hold an ensemble, and its record.
     pub fn open(dir: &Path) -> Result<(Self, Record), InputError> {
         let folder = Self::at(dir);
@@ -303,6 +337,7 @@ impl EnsembleFolder {
             ));
         }
         let record = folder.record()?;
+        folder.check_layout()?;
         Ok((folder, record))
     }
 
@@ -402,7 +437,8 @@ impl EnsembleFolder {
 
     /// Whether done member `index`'s results are whole: its summary and
     /// timeline regular files, the timeline a row at every update a
-    /// finished member of `config` records one at, each number finite.
+    /// finished member of `config` records one at, each number finite, the
+    /// summary readable and agreeing with the timeline's last row.
     pub fn check_done(&self, index: u64, config: &EnsembleConfig) -> Result<(), String> {
         for path in [self.timeline(index), self.summary(index)] {
             let name = path
@@ -436,6 +472,29 @@ impl EnsembleFolder {
             if let Some(cell) = numbers.iter().find(|c| !c.parse::<f64>().is_ok_and(f64::is_finite)) {
                 return Err(format!("timeline.csv row {}: `{cell}` is not a finite number", r + 1));
             }
+        }
+        // The summary reads back and says what the timeline's last row
+        // says: the member, its updates, its bodies and its state's hash.
+        let summary = MemberSummary::read(&self.summary(index)).map_err(|e| format!("summary.ron: {e}"))?;
+        let last = |column: &str| {
+            table
+                .column(column)
+                .and_then(|cells| cells.last().map(|c| (*c).to_owned()))
+                .unwrap_or_default()
+        };
+        let (combination, member) = config.place(index);
+        let disagreements = [
+            ("index", summary.index.to_string(), index.to_string()),
+            ("combination", summary.combination.to_string(), combination.to_string()),
+            ("member", summary.member.to_string(), member.to_string()),
+            ("steps", summary.steps.to_string(), config.steps.to_string()),
+            ("bodies", summary.bodies.to_string(), last("bodies")),
+            ("state_hash", summary.state_hash.clone(), last("state_hash")),
+        ];
+        if let Some((field, said, expected)) = disagreements.into_iter().find(|(_, said, expected)| said != expected) {
+            return Err(format!(
+                "summary.ron says {field} {said}, where its ensemble and timeline say {expected}"
+            ));
         }
         Ok(())
     }

@@ -7,49 +7,16 @@
 
 use std::time::Instant;
 
-use serde::{Deserialize, Serialize};
-
 use super::EnsembleError;
 use super::folder::{EnsembleFolder, Record, hash_text};
 use super::seeds::member_seed;
+use super::summary::MemberSummary;
 use crate::Simulation;
 use crate::calibration::machine_auto_split;
 use crate::input::{InputError, read_text};
 use crate::output::{WriteError, printable, write_atomically};
 use crate::scenario::Scenario;
 use crate::simulation::Timeline;
-
-/// What `members/<index>/summary.ron` holds.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields, rename = "Member")]
-pub struct MemberSummary {
-    /// The member's index in the ensemble.
-    pub index: u64,
-    /// Its combination of settings (`index / members`).
-    pub combination: u64,
-    /// Its place in the combination (`index % members`), which its seed is
-    /// mixed from.
-    pub member: u64,
-    /// Its seed.
-    pub seed: u64,
-    /// Its combination in words (`key=value ...`).
-    pub settings: String,
-    /// Updates run.
-    pub steps: u64,
-    /// Bodies at the start.
-    pub bodies_start: u64,
-    /// Bodies at the end.
-    pub bodies: u64,
-    /// Shatters over the run.
-    pub shatters: u64,
-    /// Shatters refused over the run.
-    pub refused_shatters: u64,
-    /// The final state's hash (docs/design.md, "State hash").
-    pub state_hash: String,
-    /// Seconds the member took, from loading the scenario to its last
-    /// file.
-    pub wall_seconds: f64,
-}
 
 /// The scenario member `index` of `record`'s ensemble runs: the folder's
 /// copy with the member's combination and seed.
@@ -142,14 +109,4 @@ fn simulate_member(folder: &EnsembleFolder, record: &Record, index: u64) -> Resu
     write_atomically(&folder.summary(index), |w| writeln!(w, "{text}"))?;
     write_atomically(&folder.done_marker(index), |_| Ok(()))?;
     Ok(summary)
-}
-
-/// Reads a finished member's summary.
-pub fn read_summary(folder: &EnsembleFolder, index: u64) -> Result<MemberSummary, InputError> {
-    let path = folder.summary(index);
-    crate::input::parse_ron(
-        &read_text(&path)?,
-        &path.display().to_string(),
-        ron::extensions::Extensions::empty(),
-    )
 }

@@ -18,14 +18,16 @@ mod plot;
 mod preflight;
 mod seeds;
 mod slurm_executor;
+mod summary;
 
 pub use aggregate::{AggregateRow, Aggregated, Series, Stats, aggregate, combination_rows, percentile, read_series};
 pub use config::{EnsembleConfig, MAX_MEMBERS, Varied, Vary};
 pub use error::EnsembleError;
 pub use folder::{Census, EnsembleFolder, MemberState, Record, SCENARIO_COPY, hash_text};
 pub use local_executor::{LocalRun, run_local};
-pub use member::{MemberSummary, member_scenario, read_summary, run_member};
+pub use member::{member_scenario, run_member};
 pub use plot::{Band, BodiesPlot};
 pub use preflight::{Started, start};
 pub use seeds::member_seed;
 pub use slurm_executor::{array_spec, sbatch_script, submit, wait};
+pub use summary::MemberSummary;

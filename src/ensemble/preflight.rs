@@ -63,6 +63,7 @@ pub fn start(config_path: &Path, out: &Path) -> Result<Started, EnsembleError> {
     }
     let record = Record::new(&config, config_path, &scenario_source, &text);
     let (folder, existing) = EnsembleFolder::prepare(out)?;
+    folder.check_layout()?;
     let mut warning = None;
     let resumed = existing.is_some();
     match &existing {

@@ -46,6 +46,10 @@ enum Refused {
     NotRegular(&'static str),
     #[error("is larger than {} MiB, the most an input file may hold", .0 >> 20)]
     TooLarge(u64),
+    /// A byte that is not UTF-8, at 1-based line and column (the column
+    /// counts the characters before it on its line).
+    #[error("byte 0x{byte:02x} is not UTF-8 text; input files are UTF-8 (save the file as UTF-8)")]
+    NotUtf8 { byte: u8, line: usize, column: usize },
 }
 
 /// What kind of file system node `file_type` is, for a message ("a FIFO
@@ -101,12 +105,24 @@ fn read_bounded(path: &Path, limit: u64) -> Result<String, Refused> {
         return Err(Refused::TooLarge(limit));
     }
     // A file that grows while it is read stops at the limit too.
-    let mut text = String::new();
-    file.take(limit + 1).read_to_string(&mut text)?;
-    if text.len() as u64 > limit {
+    let mut bytes = Vec::new();
+    file.take(limit + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
         return Err(Refused::TooLarge(limit));
     }
-    Ok(text)
+    String::from_utf8(bytes).map_err(|e| not_utf8(e.as_bytes(), e.utf8_error().valid_up_to()))
+}
+
+/// Where in `bytes` the first byte that is not UTF-8 (at `at`) is.
+fn not_utf8(bytes: &[u8], at: usize) -> Refused {
+    // Everything before `at` is valid UTF-8.
+    let before = std::str::from_utf8(&bytes[..at]).unwrap_or_default();
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    Refused::NotUtf8 {
+        byte: bytes[at],
+        line: before.matches('\n').count() + 1,
+        column: before[line_start..].chars().count() + 1,
+    }
 }
 
 /// Makes a FIFO at `path`, for tests of special files.
@@ -117,7 +133,13 @@ pub(crate) fn make_fifo(path: &Path) {
 }
 
 fn cannot_read(path: &Path, e: &Refused) -> InputError {
-    InputError::new(path.display().to_string(), e.to_string())
+    InputError {
+        location: match *e {
+            Refused::NotUtf8 { line, column, .. } => Some((line, column)),
+            _ => None,
+        },
+        ..InputError::new(path.display().to_string(), e.to_string())
+    }
 }
 
 /// The file at `path` parsed as RON (see [`parse_ron`]).
@@ -152,6 +174,25 @@ mod tests {
         assert!(e.message.contains("is a FIFO (named pipe), not a regular file"), "{e}");
         let e = read_text(Path::new("/dev/zero")).unwrap_err();
         assert!(e.message.contains("is a character device"), "{e}");
+    }
+
+    #[test]
+    fn a_byte_that_is_not_utf8_is_located() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("latin1.ron");
+        // `é` in Latin-1 on line 2, after `  name: "caf`.
+        std::fs::write(&path, b"Scenario(\n  name: \"caf\xe9\",\n)").unwrap();
+        let e = read_text(&path).unwrap_err();
+        assert_eq!(e.location, Some((2, 13)), "{e}");
+        assert!(
+            e.to_string().ends_with(
+                "latin1.ron:2:13: byte 0xe9 is not UTF-8 text; input files are UTF-8 (save the file as UTF-8)"
+            ),
+            "{e}"
+        );
+        // Characters before it on its line count once each.
+        std::fs::write(&path, "é\u{1F600}".bytes().chain([0xff]).collect::<Vec<u8>>()).unwrap();
+        assert_eq!(read_text(&path).unwrap_err().location, Some((1, 3)));
     }
 
     #[test]

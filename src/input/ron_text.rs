@@ -14,10 +14,18 @@ pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &str, extensions: Exte
         .from_str(text)
         .map_err(|e| {
             let (line, column) = (e.span.start.line, e.span.start.col);
-            let code = e.code.to_string();
-            // Our own checks name their field already.
-            let message = match field_before(text, line, column) {
-                Some(field) if !code.starts_with("field `") => format!("field `{field}`: {code}"),
+            let code = plain(&e.code.to_string(), char_at(text, line, column));
+            let field = field_before(text, line, column);
+            let message = match (
+                code.strip_prefix("field `").and_then(|rest| rest.split_once("`: ")),
+                field,
+            ) {
+                // Our own checks name their field already; a list's item
+                // (`events[0]`) is named with the field the error is in.
+                (Some((item, rest)), Some(field)) if item.ends_with(']') => {
+                    format!("field `{item}.{field}`: {rest}")
+                }
+                (None, Some(field)) => format!("field `{field}`: {code}"),
                 _ => code,
             };
             InputError {
@@ -26,6 +34,40 @@ pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &str, extensions: Exte
                 message,
             }
         })
+}
+
+/// The character at `line`:`column` (1-based) of `text`, if any.
+fn char_at(text: &str, line: usize, column: usize) -> Option<char> {
+    text.lines()
+        .nth(line.checked_sub(1)?)?
+        .chars()
+        .nth(column.checked_sub(1)?)
+}
+
+/// RON's message `code` in words that point at the mistake and advise
+/// only what the file may hold: a second value where one ends (`Swept |
+/// Discrete`, `Swept()`) is named, and a number where a name belongs is
+/// not advised to be written as a raw identifier (`r#3`), which no field
+/// takes.
+fn plain(code: &str, at: Option<char>) -> String {
+    const RAW: &str = "Found invalid std identifier \"";
+    if code.ends_with("Expected comma") {
+        let found = at.map_or_else(|| "the end of the text".to_owned(), |c| format!("`{c}`"));
+        return code.replace(
+            "Expected comma",
+            &format!("expected `,` or a closing bracket after the value, found {found} (a field holds one value)"),
+        );
+    }
+    if let Some(start) = code.find(RAW) {
+        let name_start = start + RAW.len();
+        if let Some(name_len) = code[name_start..].find('"') {
+            let name = &code[name_start..name_start + name_len];
+            let advice = format!(", try the raw identifier `r#{name}` instead");
+            let rest = code[name_start + name_len + 1..].replacen(&advice, "", 1);
+            return format!("{}`{name}` is not a name this field takes{rest}", &code[..start]);
+        }
+    }
+    code.to_owned()
 }
 
 /// The field whose value holds `line`:`column` (1-based) of `text`, where
@@ -40,6 +82,7 @@ fn field_before(text: &str, line: usize, column: usize) -> Option<&str> {
     }
     // Back over the value's start (a sign, digits), then `field:`.
     let before = line_text[..end]
+        .trim_end()
         .trim_end_matches(|c: char| c.is_ascii_alphanumeric() || "._+-\"".contains(c))
         .trim_end()
         .strip_suffix(':')?
@@ -84,6 +127,49 @@ mod tests {
         // Columns count characters.
         assert_eq!(field_before("(é: 1, x: -1)", 1, 12), Some("x"));
         assert_eq!(field_before("(x: 1)", 9, 1), None);
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    enum Detection {
+        Swept,
+        Discrete,
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    #[expect(dead_code, reason = "only parsed")]
+    struct Settings {
+        detection: Detection,
+        #[serde(default)]
+        events: Vec<Settings>,
+    }
+
+    #[test]
+    fn syntax_errors_name_the_field_and_advise_only_what_is_valid() {
+        for (text, expected) in [
+            (
+                "(detection: Swept | Discrete)",
+                "1:19: field `detection`: expected `,` or a closing bracket after the value, found `|`",
+            ),
+            (
+                "(detection: Swept())",
+                "1:18: field `detection`: expected `,` or a closing bracket after the value, found `(`",
+            ),
+            (
+                "(detection: 3)",
+                "1:13: field `detection`: `3` is not a name this field takes",
+            ),
+        ] {
+            let e = parse_ron::<Settings>(text, "s.ron", Extensions::empty()).unwrap_err();
+            assert!(e.to_string().starts_with(&format!("s.ron:{expected}")), "{text}: {e}");
+            assert!(!e.to_string().contains("r#"), "{e}");
+        }
+        // Inside a list's item, the item and the field: as `Listed` says
+        // an item's error (`field `events[0]`: …`).
+        let listed = "field `events[0]`: Expected comma";
+        assert_eq!(
+            plain(listed, Some('(')),
+            "field `events[0]`: expected `,` or a closing bracket after the value, found `(` (a field holds one value)"
+        );
     }
 
     #[test]

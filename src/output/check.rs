@@ -48,7 +48,7 @@ pub enum OutputProblem {
     #[error(": {0} names the same file")]
     SameAs(String),
     /// Its folder exists but no file can be made in it.
-    #[error(": cannot write in folder {}: {}", .0.display(), .1)]
+    #[error(": cannot write in folder {}: {}", .0.display(), why_unwritable(.1))]
     FolderUnwritable(PathBuf, std::io::Error),
     /// Something is there, and this output never overwrites; the text says
     /// what to do instead.
@@ -64,6 +64,22 @@ pub enum OutputProblem {
     /// replace the command's own input.
     #[error(": is {0} this command reads; an output never replaces an input, give it another name")]
     IsInput(String),
+}
+
+/// Why no file can be made in a folder that exists, in words: a virtual
+/// file system (`/proc`, `/sys`) answers "No such file or directory",
+/// which would read as if the folder were missing.
+fn why_unwritable(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => {
+            format!(
+                "the folder exists, but its file system makes no new files ({e}); a system folder such as /proc or /sys holds no outputs"
+            )
+        }
+        std::io::ErrorKind::ReadOnlyFilesystem => format!("its file system is read-only ({e})"),
+        std::io::ErrorKind::PermissionDenied => format!("no permission to make files there ({e})"),
+        _ => e.to_string(),
+    }
 }
 
 /// What an output does with a file already at its path.
@@ -466,7 +482,7 @@ mod tests {
         let e = check_replaceable("--dump", Path::new("/proc/x.csv")).unwrap_err();
         assert!(
             e.to_string()
-                .starts_with("--dump /proc/x.csv: cannot write in folder /proc: "),
+                .starts_with("--dump /proc/x.csv: cannot write in folder /proc: the folder exists, but "),
             "{e}"
         );
     }

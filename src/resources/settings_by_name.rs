@@ -91,30 +91,53 @@ impl<'de, T: SettingValue> DeserializeSeed<'de> for Seed<'_, T> {
     }
 }
 
-/// A list of a setting's values, each read by its rule.
-struct ListSeed<'a, T>(&'a Rule<T>);
+/// A list of values of the setting named `key`, each read by the
+/// setting's rule into the defaults with that one setting changed.
+struct ListSeed<'k>(&'k str);
 
-impl<'de, T: SettingValue> DeserializeSeed<'de> for ListSeed<'_, T> {
-    type Value = Vec<T>;
+impl<'de> DeserializeSeed<'de> for ListSeed<'_> {
+    type Value = Vec<SimulationSettings>;
 
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Vec<T>, D::Error> {
-        struct Values<'a, T>(&'a Rule<T>);
-        impl<'de, T: SettingValue> Visitor<'de> for Values<'_, T> {
-            type Value = Vec<T>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        struct Values<'k>(&'k str);
+        impl<'de> Visitor<'de> for Values<'_> {
+            type Value = Vec<SimulationSettings>;
 
             fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                write!(f, "a list of values of `{}`", self.0.key)
+                write!(f, "a list of values of `{}`", self.0)
             }
 
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<T>, A::Error> {
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
                 let mut values = Vec::new();
-                while let Some(value) = seq.next_element_seed(Seed(self.0))? {
+                while let Some(value) = seq.next_element_seed(OneValue(self.0))? {
                     values.push(value);
                 }
                 Ok(values)
             }
         }
         d.deserialize_seq(Values(self.0))
+    }
+}
+
+/// One value of the setting named `key`, read by its rule into the
+/// defaults with that one setting changed.
+struct OneValue<'k>(&'k str);
+
+impl<'de> DeserializeSeed<'de> for OneValue<'_> {
+    type Value = SimulationSettings;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<SimulationSettings, D::Error> {
+        struct ReadOne<D>(D);
+        impl<'de, D: Deserializer<'de>> OneSetting<Result<(), D::Error>> for ReadOne<D> {
+            fn act<T: SettingValue>(self, rule: &Rule<T>, value: &mut T, _: &T) -> Result<(), D::Error> {
+                *value = rule.read(self.0)?;
+                Ok(())
+            }
+        }
+        let mut one = SimulationSettings::DEFAULT;
+        with_setting(&mut one, &SimulationSettings::DEFAULT, self.0, ReadOne(d))
+            .unwrap_or_else(|| Err(D::Error::custom(format!("no setting is named `{}`", self.0))))?;
+        Ok(one)
     }
 }
 
@@ -200,27 +223,10 @@ impl SimulationSettings {
     /// [`Self::take`]). `Ok(None)` where no setting has that name (the
     /// value is then not read).
     pub fn read_values<'de, A: MapAccess<'de>>(key: &str, map: &mut A) -> Result<Option<Vec<Self>>, A::Error> {
-        struct ReadList<'m, A>(&'m mut A);
-        impl<'de, A: MapAccess<'de>> OneSetting<Result<Vec<SimulationSettings>, A::Error>> for ReadList<'_, A> {
-            fn act<T: SettingValue>(
-                self,
-                rule: &Rule<T>,
-                _: &mut T,
-                _: &T,
-            ) -> Result<Vec<SimulationSettings>, A::Error> {
-                let values = self.0.next_value_seed(ListSeed(rule))?;
-                Ok(values
-                    .into_iter()
-                    .map(|value| {
-                        let mut one = SimulationSettings::DEFAULT;
-                        with_setting(&mut one, &SimulationSettings::DEFAULT, rule.key, Put(value));
-                        one
-                    })
-                    .collect())
-            }
+        if setting(key).is_none() {
+            return Ok(None);
         }
-        let mut defaults = Self::DEFAULT;
-        with_setting(&mut defaults, &Self::DEFAULT, key, ReadList(map)).transpose()
+        map.next_value_seed(ListSeed(key)).map(Some)
     }
 
     /// Writes every setting, by its name in files, into `out`.
@@ -329,19 +335,6 @@ impl SimulationSettings {
             }
         }
         self.visit(&Self::DEFAULT, &mut Fix(&mut fixed));
-    }
-}
-
-/// Puts a value of a known type into the setting it finds.
-struct Put<V>(V);
-
-impl<V: SettingValue> OneSetting<()> for Put<V> {
-    fn act<T: SettingValue>(self, _: &Rule<T>, value: &mut T, _: &T) {
-        // `read_values` reads the value with the setting's own rule, so
-        // the types agree.
-        if let Some(v) = (&self.0 as &dyn std::any::Any).downcast_ref::<T>() {
-            *value = *v;
-        }
     }
 }
 

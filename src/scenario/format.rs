@@ -55,7 +55,8 @@ pub struct Body {
     /// Default `Adopter`.
     #[serde(default)]
     pub role: GravityRole,
-    /// Default true; false makes an immovable collider.
+    /// Default true; false makes a non-interacting body (collisions never
+    /// move or shatter it; others bounce off it).
     #[serde(default = "defaults::interacts")]
     pub interacts: bool,
     /// Default false; true, on a body that does not interact (a planet),

@@ -7,7 +7,7 @@
 //!   finite (two sources 1e-45 apart without softening, or many sources
 //!   whose pulls add up past f32, fail here);
 //! - the bodies are not piled on one another: their overlapping pairs stay
-//!   within the sweep's [`pair_limit`](crate::systems::pair_limit) (bodies
+//!   within the sweep's pair limit (`systems/pipeline/pair_limit.rs`: bodies
 //!   placed at one point are N² pairs).
 
 use crate::components::{BodyId, BodyState, GravityRole, Mass, Position, PreviousPosition, Velocity};

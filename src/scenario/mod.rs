@@ -21,5 +21,6 @@ pub use contents::Scenario;
 pub use events::{Breakup, Event, Fire, Remove, Set, Spawn};
 pub use field_checks::{MAX_BODIES, MAX_FRAGMENTS};
 pub use format::{Body, Cloud, Generator, Shape, Shell, Template};
+pub use initial_state::check_start;
 pub use scale::CannotResize;
-pub use snapshot::{Snapshot, beyond_a_scenario, scenario_text, write_session, write_snapshot};
+pub use snapshot::{Snapshot, not_a_scenario, scenario_text, write_session, write_snapshot};

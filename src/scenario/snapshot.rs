@@ -10,6 +10,7 @@ use super::contents::Scenario;
 use super::events::Event;
 use super::field_checks::MAX_STATE;
 use super::format::Body;
+use super::initial_state::check_start;
 use crate::components::BodyState;
 use crate::record::StateHash;
 use crate::resources::SimulationSettings;
@@ -53,20 +54,25 @@ impl Snapshot<'_> {
     }
 }
 
-/// The first body whose state a scenario cannot hold (a coordinate or a
-/// speed beyond ±1e30, so that the file would not load back): what is
-/// wrong, else `None`.
-pub fn beyond_a_scenario(bodies: &[BodyState]) -> Option<String> {
+/// What keeps `bodies` under `settings` from being a scenario that loads
+/// back, else `None`: a coordinate or a speed beyond ±1e30 (the file
+/// would not parse), or a state that loading refuses because it would
+/// stop at once (bodies piled on one another, a first update that
+/// overflows: [`check_start`]).
+pub fn not_a_scenario(bodies: &[BodyState], settings: &SimulationSettings) -> Option<String> {
     let beyond = |v: bevy::math::Vec3| v.abs().max_element() > MAX_STATE;
-    bodies
-        .iter()
-        .find(|b| beyond(b.position) || beyond(b.velocity))
-        .map(|b| {
-            format!(
-                "body {} is beyond ±1e30 (position {}, velocity {}), which a scenario cannot hold",
-                b.id.0, b.position, b.velocity
-            )
-        })
+    if let Some(b) = bodies.iter().find(|b| beyond(b.position) || beyond(b.velocity)) {
+        return Some(format!(
+            "body {} is beyond ±1e30 (position {}, velocity {}), which a scenario cannot hold",
+            b.id.0, b.position, b.velocity
+        ));
+    }
+    check_start(bodies, settings).err().map(|problem| {
+        format!(
+            "the state would not load back as a scenario: loaded, it would stop at once ({})",
+            problem.trim_start_matches("at the start, ")
+        )
+    })
 }
 
 /// Writes `snapshot` as a scenario file: a comment line, one with the
@@ -75,7 +81,7 @@ pub fn beyond_a_scenario(bodies: &[BodyState]) -> Option<String> {
 pub fn write_snapshot(snapshot: &Snapshot<'_>, mut out: impl Write) -> io::Result<()> {
     BodyState::check_all_finite(snapshot.bodies)?;
     // What a scenario file may hold, so that the snapshot loads back.
-    if let Some(problem) = beyond_a_scenario(snapshot.bodies) {
+    if let Some(problem) = not_a_scenario(snapshot.bodies, snapshot.settings) {
         return Err(io::Error::new(
             io::ErrorKind::InvalidData,
             format!("{problem}; nothing was written"),

@@ -13,7 +13,7 @@ use crate::execution::Execution;
 use crate::input::InputError;
 use crate::output::{WriteError, commit_all, stage};
 use crate::record::{StateHash, write_csv};
-use crate::scenario::{Scenario, Snapshot, beyond_a_scenario, write_snapshot};
+use crate::scenario::{Scenario, Snapshot, not_a_scenario, write_snapshot};
 use crate::systems::{CollisionStats, StageTimings};
 use crate::timed_events::EventLog;
 
@@ -127,7 +127,7 @@ fn write_outputs(
         Vec::new()
     };
     if outputs.scenario.is_some()
-        && let Some(problem) = beyond_a_scenario(&bodies)
+        && let Some(problem) = not_a_scenario(&bodies, sim.settings())
     {
         return Err(HeadlessError::Stopped(format!(
             "{}: after {updates} updates, {problem} (--save-scenario); the simulation stopped and no output was written",

@@ -19,9 +19,11 @@ use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{Event, Scenario};
 use crate::systems::{
     Absorbed, CollisionStats, SimulationFault, SimulationPlugins, SortedBoxes, StageTimings, UpdateCount,
-    first_non_finite, run_due_events, run_updates,
+    first_non_finite, run_updates,
 };
-use crate::timed_events::{EventLog, EventQueue, EventsPlugin, Pending, install_events, record_event};
+use crate::timed_events::{
+    EventLog, EventQueue, EventsPlugin, Pending, install_events, record_event, run_start_events,
+};
 
 /// A headless simulation.
 pub struct Simulation {
@@ -57,8 +59,9 @@ impl Simulation {
         next.0 = next.0.max(scenario.next_id());
         install_events(sim.app.world_mut(), scenario);
         // The events of update 0 belong to the start (as the window applies
-        // them when it makes the scene).
-        run_due_events(sim.app.world_mut());
+        // them when it makes the scene), and the start they leave is
+        // checked as the scenario's own bodies are.
+        run_start_events(sim.app.world_mut()).map_err(|e| InputError::new(&scenario.origin, e))?;
         Ok(sim)
     }
 
@@ -179,7 +182,7 @@ impl Simulation {
         let next_id = self.next_body_id();
         let world = self.app.world_mut();
         let mut query = world.query::<(Entity, BodyStateQuery)>();
-        let bodies: Vec<(u64, Entity)> = query.iter(world).map(|(entity, body)| (body.0.0, entity)).collect();
+        let bodies: Vec<(u64, Entity)> = query.iter(world).map(|(entity, body)| (body.id.0, entity)).collect();
         let world = &*world;
         StateHash::of_indexed(
             bodies.len(),

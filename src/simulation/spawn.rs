@@ -29,7 +29,7 @@ const SPAWN_BATCH: usize = 1 << 16;
 /// are never held twice (64 bytes a body). The world comes out the same:
 /// every body spawned in order first (with its role where it is no
 /// adopter: [`spawn_with_roles`], a batch at a time), then the markers of
-/// immovable colliders, balls and absorbers inserted in order (each moves
+/// non-interacting bodies, balls and absorbers inserted in order (each moves
 /// its body to another table, and the last row of the first into its
 /// place), as [`spawn_states`] does in one call.
 pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 {
@@ -63,10 +63,10 @@ pub fn spawn_owned_bodies(world: &mut World, mut bodies: Vec<BodyState>) -> u64 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::components::{Absorbs, BodyId, GravityRole, Immovable, Spherical};
+    use crate::components::{Absorbs, BodyId, GravityRole, NonInteracting, Spherical};
 
     /// Bodies moved into the world in batches make the same world as in
-    /// one call, past one batch and with balls, absorbers, immovable
+    /// one call, past one batch and with balls, absorbers, non-interacting
     /// colliders and every gravity role among them:
     /// the same bodies in the same tables in the same order, so that sums
     /// in query order (the timeline's totals) keep their bits. Only the
@@ -102,11 +102,13 @@ mod tests {
                     &BodyId,
                     Has<Spherical>,
                     Has<Absorbs>,
-                    Has<Immovable>,
+                    Has<NonInteracting>,
                     Option<&GravityRole>,
                 )>()
                 .iter(world)
-                .map(|(id, ball, absorber, immovable, role)| (id.0, ball, absorber, immovable, role.copied()))
+                .map(|(id, ball, absorber, non_interacting, role)| {
+                    (id.0, ball, absorber, non_interacting, role.copied())
+                })
                 .collect()
         };
         let (mut whole, mut batched) = (World::new(), World::new());
@@ -116,7 +118,13 @@ mod tests {
         );
         let order = listed(&mut whole);
         assert!(order.iter().any(|&(_, ball, ..)| ball) && order.iter().any(|&(_, _, absorber, ..)| absorber));
-        assert!(order.iter().filter(|&&(.., immovable, _)| immovable).count() > 2);
+        assert!(
+            order
+                .iter()
+                .filter(|&&(.., non_interacting, _)| non_interacting)
+                .count()
+                > 2
+        );
         for &(id, .., stored) in &order {
             let given = role((id - 1) / 3);
             assert_eq!(GravityRole::of(stored.as_ref()), given, "body {id}");

@@ -29,7 +29,9 @@ pub fn row_updates(updates: u64, every: u64) -> Vec<u64> {
 pub struct TimelineRow {
     /// Updates run.
     pub update: u64,
-    /// Overlapping pairs in the last update (0 before the first).
+    /// The pairs the last update's broad phase found (0 before the first):
+    /// boxes overlapping where the update ends under `Discrete` detection,
+    /// swept boxes overlapping along the update under `Swept`.
     pub pairs: u64,
     /// Shatters since the previous row.
     pub shatters: u64,

@@ -4,8 +4,8 @@
 //! `sort`, `sweep`, `response`, `shatter` — of one shape: its `mod.rs`
 //! holds the plugin and the thin system that times itself and calls the
 //! stage's kernels, which lie beside it and are plain functions, testable
-//! without an App. Each stage system takes a [`Stage`] and names itself
-//! once, in [`Stage::start`]. `pipeline/` holds what every stage runs in:
+//! without an App. Each stage system takes its [`StageClocks`] and names itself
+//! once, in [`StageClocks::start`]. `pipeline/` holds what every stage runs in:
 //! the stage list, the schedule chained from it, the stage clock, the
 //! timings and the run's fault. [`SimulationPlugins`] adds them all.
 
@@ -26,12 +26,11 @@ pub use gravity::{
 pub use integrate::{Drift, IntegratePlugin, integrate_kernel};
 pub use pipeline::{
     BetweenUpdates, Fault, NextEventAt, STAGE_COUNT, STAGES, SchedulePlugin, SimulationFault, SimulationSystems,
-    SimulationUpdate, Stage, StageTimings, Timing, UpdateCount, first_non_finite, pair_limit, run_due_events,
-    run_updates,
+    SimulationUpdate, StageTimings, Timing, UpdateCount, first_non_finite, run_due_events, run_updates,
 };
-pub use response::{
-    Absorbed, CollisionStats, ContactBody, MAX_CONTACTS_PER_BODY, ResponsePlugin, refuse_shatters, respond,
-};
+pub use response::{Absorbed, CollisionStats, ContactBody, ResponsePlugin, respond};
+// The stages' own: shared between the stage folders, not the library's.
+pub(crate) use pipeline::StageClocks;
 pub use shatter::ShatterPlugin;
 pub use sort::{SortPlugin, SortedBoxes, sort_boxes};
 pub use sweep::{OverlappingPairs, Pair, SweepPlugin, id_pairs, sweep_and_prune};

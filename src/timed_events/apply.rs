@@ -6,7 +6,7 @@
 use bevy::math::DVec3;
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState, BodyStateQuery, Immovable, spawn_states};
+use crate::components::{BodyId, BodyState, BodyStateQuery, NonInteracting, spawn_states};
 use crate::maths;
 use crate::maths::Rng;
 use crate::physics::{LEAST_SOUND, box_volume, breakup_fragments, fragments_sound, smallest_fragment_edge};
@@ -45,7 +45,7 @@ fn find(world: &mut World, id: u64) -> Result<(Entity, BodyState), String> {
     world
         .query::<(Entity, BodyStateQuery)>()
         .iter(world)
-        .find(|(_, body)| body.0.0 == id)
+        .find(|(_, body)| body.id.0 == id)
         .map(|(entity, body)| (entity, BodyState::from_components(body)))
         .ok_or_else(|| format!("there is no body {id} (it shattered, re-entered or was removed)"))
 }
@@ -86,7 +86,7 @@ fn apply_spawn(world: &mut World, spawn: &Spawn, around: &[u64]) -> Result<(), S
         .enumerate()
         .map(|(j, body)| body.state(first + j as u64))
         .collect();
-    let mut query = world.query_filtered::<BodyStateQuery, With<Immovable>>();
+    let mut query = world.query_filtered::<BodyStateQuery, With<NonInteracting>>();
     let mut planets: Vec<Body> = query
         .iter(world)
         .map(|body| Body::from_state(&BodyState::from_components(body)))

@@ -12,7 +12,9 @@ use bevy::prelude::*;
 pub use apply::impactor;
 pub use queue::{EventLog, EventQueue, Pending, Queued, apply_due_events};
 
-use crate::scenario::Scenario;
+use crate::components::{BodyState, BodyStateQuery};
+use crate::resources::SimulationSettings;
+use crate::scenario::{Scenario, check_start};
 use crate::systems::BetweenUpdates;
 
 /// Applies the due events in [`BetweenUpdates`].
@@ -24,6 +26,23 @@ impl Plugin for EventsPlugin {
             .init_resource::<EventLog>()
             .add_systems(BetweenUpdates, apply_due_events);
     }
+}
+
+/// Applies the events of update 0, which belong to the start, and checks
+/// the start they leave as a scenario's own bodies are checked
+/// ([`check_start`]): a `Spawn` of bodies at one point at update 0 is a
+/// pile-up at the start, as the same bodies in `bodies` are. `Err`: what
+/// is wrong, in words.
+pub fn run_start_events(world: &mut World) -> Result<(), String> {
+    crate::systems::run_due_events(world);
+    if world.resource::<EventLog>().applied == 0 {
+        return Ok(());
+    }
+    let settings = world.resource::<SimulationSettings>().clone();
+    let mut query = world.query::<BodyStateQuery>();
+    let mut bodies: Vec<BodyState> = query.iter(world).map(BodyState::from_components).collect();
+    bodies.sort_unstable_by_key(|b| b.id);
+    check_start(&bodies, &settings).map_err(|e| format!("with the events of update 0 applied, {e}"))
 }
 
 /// Makes `scenario`'s events the run's, none applied yet (at a scene's

@@ -119,7 +119,13 @@ pub fn run(options: WindowOptions) -> Result<(), WindowError> {
         run.frame_report.clone_from(&options.frame_report);
         app.add_plugins((GpuMemoryPlugin, CapturePlugin(run)));
     }
-    match app.run() {
+    let exit = app.run();
+    // A run that closed stopped ends as a stopped headless run does, its
+    // fault before any output that failed.
+    if let Some(fault) = failures.stopped() {
+        return Err(WindowError::Stopped(fault));
+    }
+    match exit {
         AppExit::Success if failures.count() > 0 => Err(WindowError::Outputs(failures.count())),
         AppExit::Success => Ok(()),
         AppExit::Error(code) => Err(WindowError::App(code.get())),

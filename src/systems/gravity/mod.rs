@@ -50,7 +50,7 @@ use bevy::prelude::*;
 
 use crate::components::{BodyId, GravityRole, Mass, Position, PreviousPosition, Velocity};
 use crate::resources::{GravityMethod, SimulationSettings};
-use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
+use crate::systems::{SimulationSystems, SimulationUpdate, StageClocks};
 
 /// Accelerates adopters towards the sources in [`SimulationSystems::Gravity`].
 pub struct GravityPlugin;
@@ -113,12 +113,12 @@ type GravityQuery<'w, 's> = Query<
 
 fn apply_gravity(
     settings: Res<SimulationSettings>,
-    mut stage: Stage,
+    mut clocks: StageClocks,
     mut in_use: ResMut<GravityInUse>,
     mut scratch: Local<GravityScratch>,
     mut bodies: GravityQuery,
 ) {
-    let clock = stage.start(SimulationSystems::Gravity);
+    let clock = clocks.start(SimulationSystems::Gravity);
     let (integrator, dt) = (settings.integrator, settings.time_step);
     let tables = bodies.contiguous_iter().expect("body components are table-stored");
     let GravityScratch { sources, pull } = &mut *scratch;

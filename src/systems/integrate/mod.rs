@@ -18,7 +18,7 @@ pub use drift::{Drift, integrate_kernel};
 use crate::components::{BodyId, Position, PreviousPosition, Velocity};
 use crate::execution::WorkerPool;
 use crate::resources::SimulationSettings;
-use crate::systems::{SimulationFault, SimulationSystems, SimulationUpdate, Stage, first_non_finite};
+use crate::systems::{SimulationFault, SimulationSystems, SimulationUpdate, StageClocks, first_non_finite};
 
 /// Moves every body in [`SimulationSystems::Integrate`].
 pub struct IntegratePlugin;
@@ -31,11 +31,11 @@ impl Plugin for IntegratePlugin {
 
 fn integrate(
     settings: Res<SimulationSettings>,
-    mut stage: Stage,
+    mut clocks: StageClocks,
     mut bodies: Query<(&BodyId, &Velocity, &mut Position, &mut PreviousPosition)>,
     mut fault: ResMut<SimulationFault>,
 ) {
-    let clock = stage.start(SimulationSystems::Integrate);
+    let clock = clocks.start(SimulationSystems::Integrate);
     let (dt, drift) = (settings.time_step, Drift::of(&settings));
     let execution = clock.execution(bodies.iter().len());
     let finite = if execution.splits() && execution.pool() == WorkerPool::Bevy {

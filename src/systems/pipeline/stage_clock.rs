@@ -1,5 +1,5 @@
-//! [`Stage`]: what every stage system takes to time itself and to run its
-//! kernels, so that a stage names itself once — in [`Stage::start`], by its
+//! [`StageClocks`]: what every stage system takes to time itself and to run its
+//! kernels, so that a stage names itself once — in [`StageClocks::start`], by its
 //! [`SimulationSystems`] value — and the clock and the execution call are
 //! written here only.
 
@@ -13,12 +13,12 @@ use crate::execution::{Execution, StageExecution};
 
 /// A stage system's parameter: the execution and the stage timings.
 #[derive(SystemParam)]
-pub struct Stage<'w> {
+pub struct StageClocks<'w> {
     execution: Res<'w, Execution>,
     timings: ResMut<'w, StageTimings>,
 }
 
-impl Stage<'_> {
+impl StageClocks<'_> {
     /// Starts `stage`'s clock. The time counts only once
     /// `StageClock::finish` is called: a stage that returns early (switched
     /// off) records no sample, as no work was done.
@@ -54,7 +54,7 @@ impl<'a> StageClock<'a> {
         self.execution
     }
 
-    /// Records the time since [`Stage::start`] as this update's sample of
+    /// Records the time since [`StageClocks::start`] as this update's sample of
     /// the stage.
     pub fn finish(self) {
         self.timings.record(self.stage, self.started.elapsed());

@@ -6,29 +6,11 @@ use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
 use super::contact::touches;
-use crate::components::{
-    Absorbs, BodyId, BodyState, GravityRole, HalfExtents, Immovable, Mass, Position, PreviousPosition, Spherical,
-    Velocity,
-};
+use crate::components::{BodyData, BodyState};
 use crate::systems::sweep::Pair;
 
-/// A [`crate::components::BodyStateQuery`] that can move the body.
-pub(super) type ContactQuery<'w, 's> = Query<
-    'w,
-    's,
-    (
-        &'static BodyId,
-        &'static mut Position,
-        &'static PreviousPosition,
-        &'static mut Velocity,
-        &'static Mass,
-        &'static HalfExtents,
-        Option<&'static GravityRole>,
-        Has<Immovable>,
-        Has<Spherical>,
-        Has<Absorbs>,
-    ),
->;
+/// Every body, as one that the response can move.
+pub(super) type ContactQuery<'w, 's> = Query<'w, 's, BodyData>;
 
 /// A pair the matching accepted: its entities, and each body as the kernel
 /// sees it and as a shatter would take it.

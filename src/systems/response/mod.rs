@@ -22,8 +22,7 @@ use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
 pub use contact::{ContactBody, Outcome, respond};
-pub use outcomes::refuse_shatters;
-pub use time_order::MAX_CONTACTS_PER_BODY;
+use outcomes::refuse_shatters;
 
 use crate::components::{Absorbs, BodyId, BodyState};
 use crate::execution::StageExecution;
@@ -32,7 +31,7 @@ use crate::resources::{CollisionDetection, NextBodyId, SimulationSettings};
 use crate::systems::shatter::{PendingShatters, ShatterQueue};
 use crate::systems::sort::SortedBoxes;
 use crate::systems::sweep::{OverlappingPairs, Pair};
-use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
+use crate::systems::{SimulationSystems, SimulationUpdate, StageClocks};
 use matching::{ContactQuery, find_reentries, match_pairs};
 use outcomes::{ShatterBudget, apply_outcomes, write_motion};
 use time_order::{Neighbourhood, Resolved, Rules, resolve_in_time_order};
@@ -40,7 +39,9 @@ use time_order::{Neighbourhood, Resolved, Rules, resolve_in_time_order};
 /// Counts of what collisions did, for summaries and the HUD.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CollisionStats {
-    /// Overlapping pairs found this update.
+    /// The pairs the broad phase found this update: boxes overlapping
+    /// where the update ends (`Discrete`), swept boxes overlapping along
+    /// the update (`Swept`).
     pub pairs: usize,
     /// Pairs responded to this update (bounces and separations).
     pub responses: usize,
@@ -49,7 +50,7 @@ pub struct CollisionStats {
     /// Pairs that shattered since the start.
     pub shatters_total: u64,
     /// Contacts left for the next update because the update's contacts
-    /// reached [`MAX_CONTACTS_PER_BODY`] (swept detection).
+    /// reached `MAX_CONTACTS_PER_BODY` (`response/time_order.rs`; swept detection).
     pub deferred: usize,
     /// Contacts deferred since the start.
     pub deferred_total: u64,
@@ -196,14 +197,14 @@ fn respond_discrete(
 
 fn respond_to_pairs(
     settings: Res<SimulationSettings>,
-    mut stage: Stage,
+    mut clocks: StageClocks,
     found: Found,
     queue: ShatterQueue,
     records: Records,
     mut busy: Local<HashSet<Entity>>,
     mut bodies: ContactQuery,
 ) {
-    let clock = stage.start(SimulationSystems::Response);
+    let clock = clocks.start(SimulationSystems::Response);
     let Found {
         pairs,
         sorted,

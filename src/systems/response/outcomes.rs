@@ -127,8 +127,8 @@ pub(super) fn apply_outcomes(
 /// Writes `motion` into the body `entity` (without marking it changed:
 /// see the components' change-detection rule).
 pub(super) fn write_motion(bodies: &mut ContactQuery, entity: Entity, motion: Motion) {
-    if let Ok((_, mut position, _, mut velocity, ..)) = bodies.get_mut(entity) {
-        position.bypass_change_detection().0 = motion.position;
-        velocity.bypass_change_detection().0 = motion.velocity;
+    if let Ok(mut body) = bodies.get_mut(entity) {
+        body.position.bypass_change_detection().0 = motion.position;
+        body.velocity.bypass_change_detection().0 = motion.velocity;
     }
 }

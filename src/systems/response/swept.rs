@@ -32,7 +32,7 @@ pub struct SweptBody {
     pub mass: f64,
     /// Half the box's edge lengths (a ball: its radius in each).
     pub half_extents: DVec3,
-    /// False for an immovable collider (the planet, a wall).
+    /// False for a non-interacting body (the planet, a wall).
     pub interacts: bool,
     /// True for a ball of radius `half_extents.x`.
     pub spherical: bool,

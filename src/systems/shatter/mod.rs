@@ -10,7 +10,7 @@ use bevy::prelude::*;
 use crate::components::{BodyId, BodyState};
 use crate::physics::{fragments_for, move_on};
 use crate::resources::{MemoryBudget, NextBodyId, SimulationSettings};
-use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
+use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, StageClocks};
 
 /// Two bodies to shatter, in pair order, for the shatter stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,13 +67,13 @@ impl Plugin for ShatterPlugin {
 
 fn shatter(
     settings: Res<SimulationSettings>,
-    mut stage: Stage,
+    mut clocks: StageClocks,
     queue: ShatterQueue,
     mut next_id: ResMut<NextBodyId>,
     room: Room,
     mut commands: Commands,
 ) {
-    let clock = stage.start(SimulationSystems::Shatter);
+    let clock = clocks.start(SimulationSystems::Shatter);
     let ShatterQueue {
         mut pending,
         mut reentering,

@@ -44,7 +44,7 @@ pub use grid::Grid;
 pub use sorted_boxes::{SortedBoxes, sort_boxes};
 
 use crate::resources::{CollisionDetection, SimulationSettings};
-use crate::systems::{SimulationSystems, SimulationUpdate, Stage};
+use crate::systems::{SimulationSystems, SimulationUpdate, StageClocks};
 
 /// Files the bodies' boxes by grid cell and orders them on x in
 /// [`SimulationSystems::Sort`].
@@ -57,12 +57,17 @@ impl Plugin for SortPlugin {
     }
 }
 
-fn sort(settings: Res<SimulationSettings>, mut stage: Stage, mut sorted: ResMut<SortedBoxes>, bodies: BroadPhaseQuery) {
+fn sort(
+    settings: Res<SimulationSettings>,
+    mut clocks: StageClocks,
+    mut sorted: ResMut<SortedBoxes>,
+    bodies: BroadPhaseQuery,
+) {
     if !settings.stages.collisions {
         sorted.clear();
         return;
     }
-    let clock = stage.start(SimulationSystems::Sort);
+    let clock = clocks.start(SimulationSystems::Sort);
     let tables = bodies.contiguous_iter().expect("body components are table-stored");
     if settings.collision_detection == CollisionDetection::Swept {
         let columns = BodyColumns::<true>::new(tables);

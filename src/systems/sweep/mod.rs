@@ -21,7 +21,7 @@ use crate::components::BodyId;
 use crate::resources::{CollisionDetection, MemoryBudget, SimulationSettings};
 use crate::systems::pipeline::{Travel, pair_limit, swept_pair_limit};
 use crate::systems::sort::{BodyColumns, BoxSource, BroadPhaseQuery, SortedBoxes, sort_boxes};
-use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, Stage};
+use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, StageClocks};
 
 /// Two overlapping bodies: ids `a < b` and their entities.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,7 +65,7 @@ struct SweptAllowance {
 
 fn sweep(
     settings: Res<SimulationSettings>,
-    mut stage: Stage,
+    mut clocks: StageClocks,
     mut pairs: ResMut<OverlappingPairs>,
     sorted: Res<SortedBoxes>,
     bodies: BroadPhaseQuery,
@@ -76,7 +76,7 @@ fn sweep(
     if !settings.stages.collisions {
         return;
     }
-    let clock = stage.start(SimulationSystems::Sweep);
+    let clock = clocks.start(SimulationSystems::Sweep);
     // Only the ids and entities are read here: the boxes are the sort's.
     let columns = BodyColumns::<false>::new(bodies.contiguous_iter().expect("body components are table-stored"));
     // The sort stage ran on these bodies just before (nothing spawns or

@@ -96,9 +96,9 @@ impl LookTracker {
 }
 
 /// Bodies drawn as spheres rather than cubes: sources that do not collide
-/// (the planet, moons: [`Immovable`](crate::components::Immovable)).
-pub fn is_celestial(role: GravityRole, immovable: bool) -> bool {
-    role.is_source() && immovable
+/// (the planet, moons: [`NonInteracting`](crate::components::NonInteracting)).
+pub fn is_celestial(role: GravityRole, non_interacting: bool) -> bool {
+    role.is_source() && non_interacting
 }
 
 #[cfg(test)]
@@ -146,7 +146,7 @@ mod tests {
     }
 
     #[test]
-    fn only_non_colliding_sources_are_celestial() {
+    fn only_non_interacting_sources_are_celestial() {
         assert!(is_celestial(GravityRole::Source, true));
         assert!(is_celestial(GravityRole::SourceAndAdopter, true));
         assert!(!is_celestial(GravityRole::SourceAndAdopter, false));

@@ -11,7 +11,7 @@ use bevy::transform::TransformSystems;
 use super::atmosphere::{AtmosphereMaterial, AtmosphereVisual, ring_mesh};
 use super::body_colors::is_celestial;
 use super::planet_texture::{self, Picture};
-use crate::components::{BodyId, GravityRole, HalfExtents, Immovable, Mass, Position};
+use crate::components::{BodyId, GravityRole, HalfExtents, Mass, NonInteracting, Position};
 use crate::ui::session::SandboxSettings;
 
 /// A sphere standing for a celestial body.
@@ -127,7 +127,7 @@ type CelestialQuery<'w, 's, F> = Query<
         &'static HalfExtents,
         &'static Mass,
         Option<&'static GravityRole>,
-        Has<Immovable>,
+        Has<NonInteracting>,
     ),
     F,
 >;
@@ -141,9 +141,10 @@ fn spawn_celestial_visuals(
     added: CelestialQuery<Added<BodyId>>,
     all: CelestialQuery<()>,
 ) {
-    let celestial = |&(.., role, immovable): &(Entity, &Position, &HalfExtents, &Mass, Option<&GravityRole>, bool)| {
-        is_celestial(GravityRole::of(role), immovable)
-    };
+    let celestial =
+        |&(.., role, non_interacting): &(Entity, &Position, &HalfExtents, &Mass, Option<&GravityRole>, bool)| {
+            is_celestial(GravityRole::of(role), non_interacting)
+        };
     if !added.iter().any(|body| celestial(&body)) {
         return;
     }

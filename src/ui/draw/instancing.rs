@@ -18,7 +18,7 @@ use bevy::render::extract_component::ExtractComponentPlugin;
 use super::body_colors::{LookTracker, body_color, is_celestial};
 use super::instance_slot::{InstanceData, InstancedBodies};
 use super::instanced_draw::InstancedDrawPlugin;
-use crate::components::{BodyId, GravityRole, HalfExtents, Immovable, Position, Velocity};
+use crate::components::{BodyId, GravityRole, HalfExtents, NonInteracting, Position, Velocity};
 use crate::resources::DrawMethod;
 use crate::systems::OverlappingPairs;
 use crate::ui::session::SandboxSettings;
@@ -70,7 +70,7 @@ type CubeQuery<'w, 's> = Query<
         &'static HalfExtents,
         &'static Velocity,
         Option<&'static GravityRole>,
-        Has<Immovable>,
+        Has<NonInteracting>,
     ),
 >;
 
@@ -102,7 +102,7 @@ fn gather_instances(
         looks.start(&pairs);
         let cubes = bodies
             .iter()
-            .filter(|&(.., role, immovable)| !is_celestial(GravityRole::of(role), immovable));
+            .filter(|&(.., role, non_interacting)| !is_celestial(GravityRole::of(role), non_interacting));
         staging.extend(cubes.map(|(entity, id, position, half, velocity, ..)| {
             let look = looks.look(entity, *id, velocity.0, state.first_fragment_id);
             InstanceData {

@@ -10,7 +10,7 @@ use bevy::prelude::*;
 use bevy::transform::TransformSystems;
 
 use super::body_colors::{LookTracker, PLAIN, body_color, is_celestial};
-use crate::components::{BodyId, GravityRole, HalfExtents, Immovable, Position, Velocity};
+use crate::components::{BodyId, GravityRole, HalfExtents, NonInteracting, Position, Velocity};
 use crate::resources::DrawMethod;
 use crate::systems::OverlappingPairs;
 use crate::ui::session::SandboxSettings;
@@ -91,7 +91,7 @@ fn sync_body_meshes(
     settings: Res<SandboxSettings>,
     assets: Res<BodyMeshAssets>,
     mut meshes: ResMut<Assets<Mesh>>,
-    bare: Query<(Entity, Option<&GravityRole>, Has<Immovable>), (With<BodyId>, Without<MeshedBody>)>,
+    bare: Query<(Entity, Option<&GravityRole>, Has<NonInteracting>), (With<BodyId>, Without<MeshedBody>)>,
     meshed: Query<(Entity, &MeshedBody)>,
 ) {
     let wanted = wanted_method(&settings);
@@ -104,7 +104,7 @@ fn sync_body_meshes(
     }
     let cubes = bare
         .iter()
-        .filter(|&(_, role, immovable)| !is_celestial(GravityRole::of(role), immovable));
+        .filter(|&(_, role, non_interacting)| !is_celestial(GravityRole::of(role), non_interacting));
     match wanted {
         Some(DrawMethod::SharedMesh) => {
             let batch: Vec<_> = cubes

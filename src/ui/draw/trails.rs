@@ -11,7 +11,7 @@ use bevy::mesh::PrimitiveTopology;
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 
-use crate::components::{BodyId, Immovable, Position, Velocity};
+use crate::components::{BodyId, NonInteracting, Position, Velocity};
 use crate::ui::session::SandboxState;
 use crate::ui::session::UpdateClock;
 use crate::ui::session::{SandboxSettings, TrailChoice};
@@ -128,7 +128,7 @@ fn record_trails(
     selection: Res<Selection>,
     clock: Res<UpdateClock>,
     state: Res<SandboxState>,
-    bodies: Query<(Entity, &BodyId, &Position, &Velocity, Has<Immovable>)>,
+    bodies: Query<(Entity, &BodyId, &Position, &Velocity, Has<NonInteracting>)>,
 ) {
     if settings.trails == TrailChoice::Off && selection.entity.is_none() {
         if !trails.paths.is_empty() {
@@ -158,7 +158,9 @@ fn record_trails(
             settings.trails,
             settings.trail_count as usize,
             state.first_fragment_id,
-            bodies.iter().map(|(e, id, _, v, immovable)| (e, *id, v.0, !immovable)),
+            bodies
+                .iter()
+                .map(|(e, id, _, v, non_interacting)| (e, *id, v.0, !non_interacting)),
         );
         trails.chosen_at = Some((now.0, wanted.0, wanted.1));
     }

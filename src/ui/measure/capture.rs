@@ -14,13 +14,13 @@ use super::gpu_memory::GpuMemory;
 use super::picture::{save_png, screenshot_of};
 use super::pipelines::PipelinesSettled;
 use crate::bench::{FrameReport, peak_memory};
-use crate::components::{BodyId, GravityRole, Immovable};
+use crate::components::{BodyId, GravityRole, NonInteracting};
 use crate::output::write_atomically;
 use crate::resources::DrawMethod;
 use crate::ui::draw::InstancedBodies;
 use crate::ui::draw::is_celestial;
 use crate::ui::session::UpdateClock;
-use crate::ui::session::{OffscreenTarget, SandboxSettings};
+use crate::ui::session::{OffscreenTarget, OutputFailures, SandboxSettings};
 
 /// Frames skipped, after the scene is first drawn in full, before frame
 /// times count (buffers fill, caches warm).
@@ -154,6 +154,7 @@ pub struct CapturePlugin(pub ScriptedRun);
 impl Plugin for CapturePlugin {
     fn build(&self, app: &mut App) {
         app.insert_resource(self.0.clone())
+            .init_resource::<OutputFailures>()
             .add_systems(Update, scripted_run)
             .add_systems(Last, report_frames.after(record_frame_stats));
     }
@@ -171,7 +172,7 @@ fn bodies_ready(settings: &SandboxSettings, cubes: usize, draws: Option<u64>) ->
 }
 
 /// The cubes of the scene: the bodies the instanced pipeline draws.
-type Cubes<'w, 's> = Query<'w, 's, (Option<&'static GravityRole>, Has<Immovable>), With<BodyId>>;
+type Cubes<'w, 's> = Query<'w, 's, (Option<&'static GravityRole>, Has<NonInteracting>), With<BodyId>>;
 
 /// Counts the frames once the scene is drawn in full, then takes the
 /// screenshot, and ends the app once the pipelines are settled.
@@ -209,7 +210,7 @@ fn scripted_run(
     let drawn = settled && run.first_frame.is_none() && {
         let cubes = cubes
             .iter()
-            .filter(|&(role, immovable)| !is_celestial(GravityRole::of(role), immovable))
+            .filter(|&(role, non_interacting)| !is_celestial(GravityRole::of(role), non_interacting))
             .count();
         let draws = instanced.iter().map(|InstancedBodies(slot)| slot.draws()).min();
         bodies_ready(&settings, cubes, draws)
@@ -222,39 +223,42 @@ fn scripted_run(
         Step::Capture => {
             let path = run.screenshot.clone().unwrap_or_default();
             commands.spawn(screenshot_of(target.as_deref())).observe(
-                move |captured: On<ScreenshotCaptured>, mut run: ResMut<ScriptedRun>| {
+                move |captured: On<ScreenshotCaptured>, mut run: ResMut<ScriptedRun>, failures: Res<OutputFailures>| {
                     // Too late: the run gave up waiting and ends with an error.
                     if run.ending.is_some() {
                         return;
                     }
-                    let exit = match save_png(&captured.image, &path) {
-                        Ok(()) => {
-                            eprintln!("kessler: screenshot saved to {}", path.display());
-                            AppExit::Success
-                        }
-                        Err(e) => {
-                            eprintln!("kessler: error: {}: cannot save screenshot: {e}", path.display());
-                            AppExit::from_code(1)
-                        }
-                    };
-                    run.end(exit, Instant::now());
+                    match save_png(&captured.image, &path) {
+                        Ok(()) => eprintln!("kessler: screenshot saved to {}", path.display()),
+                        Err(e) => failures.failed(format_args!("{}: cannot save screenshot: {e}", path.display())),
+                    }
+                    run.end(AppExit::Success, Instant::now());
                 },
             );
         }
     }
 }
 
+/// What a scripted run measured: its frames, its updates, the GPU's
+/// memory.
+#[derive(SystemParam)]
+struct Measured<'w> {
+    stats: Res<'w, FrameStats>,
+    clock: Res<'w, UpdateClock>,
+    gpu: Option<Res<'w, GpuMemory>>,
+}
+
 /// Prints the frame-time summary of a scripted run when the app exits, and
 /// writes its frame report if asked.
 fn report_frames(
     mut exits: MessageReader<AppExit>,
-    stats: Res<FrameStats>,
-    clock: Res<UpdateClock>,
+    measured: Measured,
     settings: Res<SandboxSettings>,
     run: Res<ScriptedRun>,
-    gpu: Option<Res<GpuMemory>>,
     bodies: Query<(), With<BodyId>>,
+    failures: Res<OutputFailures>,
 ) {
+    let Measured { stats, clock, gpu } = measured;
     if exits.read().next().is_none() {
         return;
     }
@@ -286,7 +290,7 @@ fn report_frames(
             adapter: gpu.adapter,
         };
         if let Err(e) = write_atomically(path, |w| w.write_all(report.to_text().as_bytes())) {
-            eprintln!("kessler: error: --frame-report {e}");
+            failures.failed(format_args!("--frame-report {e}"));
         }
     }
     match summary {

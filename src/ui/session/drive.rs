@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use bevy::prelude::*;
 
+use super::output_failures::OutputFailures;
 use super::sandbox_settings::SandboxSettings;
 use super::scene::SandboxState;
 use super::update_clock::{UpdateClock, updates_within_budget};
@@ -29,12 +30,15 @@ pub struct DrivePlugin;
 
 impl Plugin for DrivePlugin {
     fn build(&self, app: &mut App) {
-        app.init_resource::<UpdateClock>().add_systems(
-            Update,
-            (apply_live_settings, drive_simulation, show_set_events)
-                .chain()
-                .in_set(SandboxSystems::Simulate),
-        );
+        app.init_resource::<UpdateClock>()
+            .init_resource::<OutputFailures>()
+            .add_systems(
+                Update,
+                (apply_live_settings, drive_simulation, show_set_events)
+                    .chain()
+                    .in_set(SandboxSystems::Simulate),
+            )
+            .add_systems(Last, stopped_at_close);
     }
 }
 
@@ -123,6 +127,26 @@ fn drive_simulation(world: &mut World, mut scene: Local<u64>) {
             state.paused = true;
             state.error = Some(message);
         }
+    }
+}
+
+/// At the close: a run whose simulation is stopped (a fault the scene was
+/// not restarted or rewound from) ends as a stopped headless run does,
+/// saying why; its state, half an update, is written nowhere.
+fn stopped_at_close(
+    mut exits: MessageReader<AppExit>,
+    fault: Res<SimulationFault>,
+    state: Res<SandboxState>,
+    failures: Res<OutputFailures>,
+) {
+    if exits.read().next().is_none() {
+        return;
+    }
+    if let Some(message) = fault.message() {
+        failures.closed_stopped(format!(
+            "{}: {message}; nothing was written at the close",
+            state.scenario.origin
+        ));
     }
 }
 

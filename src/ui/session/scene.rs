@@ -180,12 +180,16 @@ pub fn restart_scene(world: &mut World) {
     *world.resource_mut::<GravityInUse>() = GravityInUse::default();
     world.resource_mut::<SimulationFault>().clear();
     // The events of update 0 belong to the start: a session saved before
-    // the first update replays with `--steps 0` to this state.
-    crate::systems::run_due_events(world);
+    // the first update replays with `--steps 0` to this state. A start
+    // they leave that cannot run is said (the first update stops it).
+    let start = crate::timed_events::run_start_events(world);
     world.resource_mut::<OverlappingPairs>().0.clear();
     world.resource_mut::<StageTimings>().reset();
     let mut state = world.resource_mut::<SandboxState>();
-    state.error = None;
+    state.error = start.err().map(|e| {
+        warn!("{e}");
+        e
+    });
     state.built_with = settings;
     state.first_fragment_id = next;
     state.generation += 1;

@@ -5,12 +5,15 @@
 //! every event of the run, the scenario's and those the tools recorded
 //! (`crate::scenario::write_session`), which replays to the window's
 //! states. A file that exists already is never overwritten: the panel says
-//! so instead.
+//! so instead. A save that fails is said on stderr too, and the run ends
+//! with exit status 1 ([`OutputFailures`]), scripted or not.
 
 use std::path::PathBuf;
 
+use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 
+use super::output_failures::OutputFailures;
 use super::scene::SandboxState;
 use crate::components::{BodyState, BodyStateQuery};
 use crate::output::{check_new, write_atomically};
@@ -25,8 +28,9 @@ use crate::ui::sets::SandboxSystems;
 pub struct SnapshotSave {
     /// Where to save the state at the end of this frame.
     pub requested: Option<PathBuf>,
-    /// Where to save the session at the end of this frame.
-    pub session_requested: Option<PathBuf>,
+    /// Where to save the session at the end of this frame: each, in the
+    /// order asked (a script may ask for several in one frame).
+    pub session_requested: Vec<PathBuf>,
     /// What happened to the last save, for the panel.
     pub outcome: Option<Result<String, String>>,
 }
@@ -37,25 +41,36 @@ pub struct SnapshotSavePlugin;
 impl Plugin for SnapshotSavePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<SnapshotSave>()
+            .init_resource::<OutputFailures>()
             .init_resource::<EventQueue>()
             .init_resource::<UpdateCount>()
             .add_systems(Update, save_snapshot.after(SandboxSystems::Simulate));
     }
 }
 
+/// What a save writes: the run's updates, physics, next id, events and
+/// bodies.
+#[derive(SystemParam)]
+struct RunNow<'w, 's> {
+    updates: Res<'w, UpdateCount>,
+    physics: Res<'w, SimulationSettings>,
+    next_id: Res<'w, NextBodyId>,
+    queue: Res<'w, EventQueue>,
+    bodies: Query<'w, 's, BodyStateQuery>,
+}
+
 /// Saves the state, or the session, where the panel asked.
-fn save_snapshot(
-    mut save: ResMut<SnapshotSave>,
-    state: Res<SandboxState>,
-    updates: Res<UpdateCount>,
-    physics: Res<SimulationSettings>,
-    next_id: Res<NextBodyId>,
-    queue: Res<EventQueue>,
-    bodies: Query<BodyStateQuery>,
-) {
-    if let Some(path) = save.session_requested.take() {
+fn save_snapshot(mut save: ResMut<SnapshotSave>, state: Res<SandboxState>, run: RunNow, failures: Res<OutputFailures>) {
+    let RunNow {
+        updates,
+        physics,
+        next_id,
+        queue,
+        bodies,
+    } = run;
+    for path in std::mem::take(&mut save.session_requested) {
         let session = queue.session(&state.started_from);
-        let outcome = check_new("save", &path, "choose another name: saves never overwrite")
+        let outcome = check_new("the file", &path, "choose another name: saves never overwrite")
             .map_err(|e| e.to_string())
             .and_then(|()| {
                 write_atomically(&path, |w| write_session(&session, updates.0, w)).map_err(|e| e.to_string())
@@ -67,6 +82,9 @@ fn save_snapshot(
                     path.display()
                 )
             });
+        if let Err(e) = &outcome {
+            failures.failed(format_args!("cannot save the session: {e}"));
+        }
         save.outcome = Some(outcome);
     }
     let Some(path) = save.requested.take() else {
@@ -84,10 +102,13 @@ fn save_snapshot(
         events: &pending.events,
         left_out: &pending.left_out,
     };
-    let outcome = check_new("save", &path, "choose another name: saves never overwrite")
+    let outcome = check_new("the file", &path, "choose another name: saves never overwrite")
         .map_err(|e| e.to_string())
         .and_then(|()| write_atomically(&path, |w| write_snapshot(&snapshot, w)).map_err(|e| e.to_string()))
         .map(|()| format!("saved {} bodies to {}", states.len(), path.display()));
+    if let Err(e) = &outcome {
+        failures.failed(format_args!("cannot save the scenario: {e}"));
+    }
     save.outcome = Some(outcome);
 }
 

@@ -74,6 +74,10 @@ pub enum WindowError {
     /// The app itself stopped with an error (its log says more).
     #[error("the window app stopped with an error (see the log above)")]
     App(u8),
+    /// The simulation was stopped by a fault when the window closed (the
+    /// scenario and the fault, in words): nothing was written at the close.
+    #[error("{0}")]
+    Stopped(String),
     /// Outputs failed during the run (each said why as it failed).
     #[error("{0} output(s) of the run could not be written (see the errors above)")]
     Outputs(u64),

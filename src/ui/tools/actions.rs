@@ -159,7 +159,10 @@ fn apply_action(world: &mut World, action: &ToolAction) -> Result<(), String> {
             return Ok(());
         }
         ToolAction::SaveSession(ref path) => {
-            world.resource_mut::<SnapshotSave>().session_requested = Some(path.clone());
+            world
+                .resource_mut::<SnapshotSave>()
+                .session_requested
+                .push(path.clone());
             return Ok(());
         }
     };

@@ -14,7 +14,7 @@ use crate::input::{InputError, load_ron};
 use crate::output::write_atomically;
 use crate::record::StateHash;
 use crate::resources::NextBodyId;
-use crate::systems::UpdateCount;
+use crate::systems::{SimulationFault, UpdateCount};
 use crate::ui::measure::FrameStats;
 use crate::ui::session::OutputFailures;
 
@@ -67,8 +67,11 @@ pub fn dump_at_close(
     next_id: Res<NextBodyId>,
     bodies: Query<BodyStateQuery>,
     failures: Res<OutputFailures>,
+    fault: Res<SimulationFault>,
 ) {
-    if exits.read().next().is_none() {
+    // A stopped run writes no state: it is half an update
+    // (`stopped_at_close` says why the run ends so).
+    if exits.read().next().is_none() || fault.fault.is_some() {
         return;
     }
     let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
