@@ -661,6 +661,31 @@ fn aggregate_replaces_only_regular_files() {
     assert!(!tmp.path().join("elsewhere.svg").exists(), "written through the link");
 }
 
+/// The small ensemble run twice in `dir`: its config, a folder to keep
+/// clean and one to damage.
+fn two_small_runs(dir: &Path) -> (PathBuf, PathBuf, PathBuf) {
+    let cfg = config(dir, "small.ron", SMALL);
+    let (clean, out) = (dir.join("clean"), dir.join("damaged"));
+    for dir in [&clean, &out] {
+        let run = ensemble(&cfg, dir, &[]);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    }
+    (cfg, clean, out)
+}
+
+/// Resumes the ensemble in `out`, which runs `to_run` members, and checks
+/// that every member and the aggregate are then those of `clean`.
+fn resumes_to_the_clean_run(cfg: &Path, out: &Path, clean: &Path, to_run: usize) {
+    let resumed = ensemble(cfg, out, &[]);
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    assert!(resumed.status.success(), "{stderr}");
+    assert!(stderr.contains(&format!("{to_run} to run")), "{stderr}");
+    for index in 0..6 {
+        assert_eq!(results(out, index), results(clean, index), "member {index}");
+    }
+    assert_eq!(read(out.join("aggregate.csv")), read(clean.join("aggregate.csv")));
+}
+
 /// A finished member whose files were damaged afterwards is found and run
 /// again, bit-equal to an undamaged run: its timeline cut short, deleted,
 /// made a FIFO or given a NaN, its folder made a file. `status` names each,
@@ -670,12 +695,7 @@ fn aggregate_replaces_only_regular_files() {
 #[test]
 fn damaged_members_are_found_and_run_again_bit_equal() {
     let tmp = tempfile::tempdir().unwrap();
-    let cfg = config(tmp.path(), "small.ron", SMALL);
-    let (clean, out) = (tmp.path().join("clean"), tmp.path().join("damaged"));
-    for dir in [&clean, &out] {
-        let run = ensemble(&cfg, dir, &[]);
-        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    }
+    let (cfg, clean, out) = two_small_runs(tmp.path());
     let timeline = |i: u64| out.join(format!("members/{i}/timeline.csv"));
     let text = read(timeline(0));
     let first_rows: Vec<&str> = text.lines().take(4).collect();
@@ -711,14 +731,7 @@ fn damaged_members_are_found_and_run_again_bit_equal() {
         "{stderr}"
     );
 
-    let resumed = ensemble(&cfg, &out, &[]);
-    let stderr = String::from_utf8_lossy(&resumed.stderr);
-    assert!(resumed.status.success(), "{stderr}");
-    assert!(stderr.contains("5 to run"), "{stderr}");
-    for index in 0..6 {
-        assert_eq!(results(&out, index), results(&clean, index), "member {index}");
-    }
-    assert_eq!(read(out.join("aggregate.csv")), read(clean.join("aggregate.csv")));
+    resumes_to_the_clean_run(&cfg, &out, &clean, 5);
 }
 
 /// A done member whose summary was damaged afterwards (garbage, or a state
@@ -727,12 +740,7 @@ fn damaged_members_are_found_and_run_again_bit_equal() {
 #[test]
 fn damaged_summaries_are_damaged_members_run_again_bit_equal() {
     let tmp = tempfile::tempdir().unwrap();
-    let cfg = config(tmp.path(), "small.ron", SMALL);
-    let (clean, out) = (tmp.path().join("clean"), tmp.path().join("damaged"));
-    for dir in [&clean, &out] {
-        let run = ensemble(&cfg, dir, &[]);
-        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    }
+    let (cfg, clean, out) = two_small_runs(tmp.path());
     let summary = |i: u64| out.join(format!("members/{i}/summary.ron"));
     std::fs::write(summary(1), "Member(index: 1, garbage").unwrap();
     let hash = column(&read(out.join("members/4/timeline.csv")), "state_hash")
@@ -752,14 +760,7 @@ fn damaged_summaries_are_damaged_members_run_again_bit_equal() {
         )),
         "{said}"
     );
-    let resumed = ensemble(&cfg, &out, &[]);
-    let stderr = String::from_utf8_lossy(&resumed.stderr);
-    assert!(resumed.status.success(), "{stderr}");
-    assert!(stderr.contains("2 to run"), "{stderr}");
-    for index in 0..6 {
-        assert_eq!(results(&out, index), results(&clean, index), "member {index}");
-    }
-    assert_eq!(read(out.join("aggregate.csv")), read(clean.join("aggregate.csv")));
+    resumes_to_the_clean_run(&cfg, &out, &clean, 2);
 }
 
 /// A file where the ensemble keeps a folder (`members`, `logs`, `slurm`,

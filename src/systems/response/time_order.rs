@@ -156,6 +156,9 @@ struct Contacts<'n, N: Neighbourhood> {
     /// them by), filed under the grid's cells their paths cover (an entry
     /// may be stale: its body's path has moved on).
     escaped_in: HashMap<u32, Vec<u32>>,
+    /// Each (cell, body) filed in `escaped_in`, so that a body that moves
+    /// again is filed in a cell once, however often its paths cover it.
+    filed: HashSet<(u32, u32)>,
     /// Searches made so far (see [`Tracked::seen`]).
     stamp: u32,
 }
@@ -279,11 +282,10 @@ impl<N: Neighbourhood> Contacts<'_, N> {
             found.sort_unstable();
         }
         if !within(&region, &self.bodies[i as usize].broad) {
-            let escaped_in = &mut self.escaped_in;
+            let (escaped_in, filed) = (&mut self.escaped_in, &mut self.filed);
             self.world.cells(&region, &mut |cell| {
-                let filed = escaped_in.entry(cell).or_default();
-                if filed.last() != Some(&i) {
-                    filed.push(i);
+                if filed.insert((cell, i)) {
+                    escaped_in.entry(cell).or_default().push(i);
                 }
             });
         }
@@ -375,6 +377,7 @@ impl<'n, N: Neighbourhood> Contacts<'n, N> {
             known: HashSet::default(),
             touches: BinaryHeap::new(),
             escaped_in: HashMap::default(),
+            filed: HashSet::default(),
             stamp: 0,
         };
         for pair in pairs {
