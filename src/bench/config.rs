@@ -388,9 +388,10 @@ impl BenchConfig {
                     InputError::new(config_path.display().to_string(), format!("runs[{i}]: {e}"))
                 };
                 let sized = scenario.with_generated(bodies).map_err(|e| in_run(&e))?;
-                // Its bodies are made (and checked: no pile-up, a finite
-                // first update) before any run is measured, one run at a time.
-                sized.bodies().map_err(|e| in_run(&e))?;
+                // Its start is made (and checked: no pile-up, a finite first
+                // update, with the events of update 0) before any run is
+                // measured, one run at a time.
+                crate::simulation::Simulation::check_start(&sized).map_err(|e| in_run(&e))?;
                 Ok(sized)
             })
             .collect()

@@ -72,7 +72,7 @@ pub struct BodyState {
     pub half_extents: Vec3,
     /// See [`GravityRole`].
     pub role: GravityRole,
-    /// False for an non_interacting collider (see [`NonInteracting`]).
+    /// False for a non-interacting body (see [`NonInteracting`]).
     pub interacts: bool,
     /// See [`PreviousPosition`]; a new body's is its position.
     pub previous: Vec3,
@@ -148,7 +148,7 @@ impl BodyState {
     }
 
     /// The bundle that spawns this body (a body that is no adopter also
-    /// needs its [`GravityRole`], an non_interacting one [`NonInteracting`], a ball
+    /// needs its [`GravityRole`], a non-interacting one [`NonInteracting`], a ball
     /// [`Spherical`], an absorber [`Absorbs`]: [`spawn_states`] adds them).
     pub fn bundle(&self) -> BodyBundle {
         BodyBundle {
@@ -169,7 +169,7 @@ impl BodyState {
 }
 
 /// Spawns `bodies` into `world`, each with its role where it is no adopter
-/// and its markers (an non_interacting collider's [`NonInteracting`], a ball's
+/// and its markers (a non-interacting body's [`NonInteracting`], a ball's
 /// [`Spherical`], an absorber's [`Absorbs`]), in the order given.
 pub fn spawn_states(world: &mut World, bodies: &[BodyState]) {
     let entities = spawn_with_roles(world, bodies);

@@ -450,7 +450,7 @@ impl EnsembleFolder {
                 Err(_) => return Err(format!("{name} is missing")),
             }
         }
-        let text = read_text(&self.timeline(index)).map_err(|e| e.message)?;
+        let text = read_text(&self.timeline(index)).map_err(|e| e.to_string())?;
         let table = CsvTable::parse::<TimelineRow>(&text).map_err(|e| format!("timeline.csv: {e}"))?;
         let expected = row_updates(config.steps, config.every);
         let updates = table.column("update").unwrap_or_default();
@@ -475,7 +475,7 @@ impl EnsembleFolder {
         }
         // The summary reads back and says what the timeline's last row
         // says: the member, its updates, its bodies and its state's hash.
-        let summary = MemberSummary::read(&self.summary(index)).map_err(|e| format!("summary.ron: {e}"))?;
+        let summary = MemberSummary::read(&self.summary(index)).map_err(|e| e.to_string())?;
         let last = |column: &str| {
             table
                 .column(column)

@@ -48,13 +48,14 @@ pub fn start(config_path: &Path, out: &Path) -> Result<Started, EnsembleError> {
     };
     let scenario = Scenario::parse(&text, &scenario_source)
         .map_err(|e| InputError::new(&origin, format!("field `scenario`: {e}")))?;
-    // Every combination's bodies, with the first member's seed: a value
-    // that breaks the scenario (a pile-up, an overflowing pull) fails now.
+    // Every combination's start, with the first member's seed (the events
+    // of update 0 applied): a value that breaks the scenario (a pile-up,
+    // an overflowing pull) fails now.
     for combination in 0..config.vary.combinations() {
         let mut this = scenario.clone();
         config.vary.apply(combination, &mut this.physics);
         this.physics.seed = member_seed(config.seed, 0);
-        this.bodies().map_err(|e| {
+        crate::simulation::Simulation::check_start(&this).map_err(|e| {
             InputError::new(
                 &origin,
                 format!("field `vary`: with {}: {e}", config.vary.label(combination)),

@@ -14,8 +14,8 @@ pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &str, extensions: Exte
         .from_str(text)
         .map_err(|e| {
             let (line, column) = (e.span.start.line, e.span.start.col);
-            let code = plain(&e.code.to_string(), char_at(text, line, column));
             let field = field_before(text, line, column);
+            let code = plain(&e.code.to_string(), char_at(text, line, column), field.is_some());
             let message = match (
                 code.strip_prefix("field `").and_then(|rest| rest.split_once("`: ")),
                 field,
@@ -45,18 +45,22 @@ fn char_at(text: &str, line: usize, column: usize) -> Option<char> {
 }
 
 /// RON's message `code` in words that point at the mistake and advise
-/// only what the file may hold: a second value where one ends (`Swept |
-/// Discrete`, `Swept()`) is named, and a number where a name belongs is
-/// not advised to be written as a raw identifier (`r#3`), which no field
+/// only what the file may hold; `in_value`: the error is in a field's value
+/// on the line (`field: value`), else between fields or items. A second
+/// value where one ends (`Swept | Discrete`, `Swept()`) is named as such, a
+/// comma missing between fields as that; a number where a name belongs is
+/// not advised to be written as a raw identifier (`r#3`), which no file
 /// takes.
-fn plain(code: &str, at: Option<char>) -> String {
+fn plain(code: &str, at: Option<char>, in_value: bool) -> String {
     const RAW: &str = "Found invalid std identifier \"";
     if code.ends_with("Expected comma") {
         let found = at.map_or_else(|| "the end of the text".to_owned(), |c| format!("`{c}`"));
-        return code.replace(
-            "Expected comma",
-            &format!("expected `,` or a closing bracket after the value, found {found} (a field holds one value)"),
-        );
+        let said = if in_value {
+            format!("expected `,` or a closing bracket after the value, found {found} (a field holds one value)")
+        } else {
+            format!("expected `,` or a closing bracket, found {found} (is a `,` missing before it?)")
+        };
+        return code.replace("Expected comma", &said);
     }
     if let Some(start) = code.find(RAW) {
         let name_start = start + RAW.len();
@@ -64,7 +68,12 @@ fn plain(code: &str, at: Option<char>) -> String {
             let name = &code[name_start..name_start + name_len];
             let advice = format!(", try the raw identifier `r#{name}` instead");
             let rest = code[name_start + name_len + 1..].replacen(&advice, "", 1);
-            return format!("{}`{name}` is not a name this field takes{rest}", &code[..start]);
+            let said = if in_value {
+                format!("`{name}` is not a name this field takes")
+            } else {
+                format!("`{name}` is not a name (letters, digits and `_`, not starting with a digit)")
+            };
+            return format!("{}{said}{rest}", &code[..start]);
         }
     }
     code.to_owned()
@@ -167,8 +176,25 @@ mod tests {
         // an item's error (`field `events[0]`: …`).
         let listed = "field `events[0]`: Expected comma";
         assert_eq!(
-            plain(listed, Some('(')),
+            plain(listed, Some('('), true),
             "field `events[0]`: expected `,` or a closing bracket after the value, found `(` (a field holds one value)"
+        );
+        // A comma missing between fields on two lines, and a name that is
+        // none: no advice about one value.
+        let e =
+            parse_ron::<Settings>("(\n  detection: Swept\n  events: [])", "s.ron", Extensions::empty()).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("s.ron:3:3: expected `,` or a closing bracket, found `e` (is a `,` missing before it?)"),
+            "{e}"
+        );
+        assert_eq!(
+            plain(
+                "Found invalid std identifier \"my-field\", try the raw identifier `r#my-field` instead",
+                None,
+                false
+            ),
+            "`my-field` is not a name (letters, digits and `_`, not starting with a digit)"
         );
     }
 

@@ -69,7 +69,7 @@ pub fn not_a_scenario(bodies: &[BodyState], settings: &SimulationSettings) -> Op
     }
     check_start(bodies, settings).err().map(|problem| {
         format!(
-            "the state would not load back as a scenario: loaded, it would stop at once ({})",
+            "the state would not load back as a scenario: loading refuses a start that would stop at once ({})",
             problem.trim_start_matches("at the start, ")
         )
     })

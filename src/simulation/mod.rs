@@ -65,6 +65,19 @@ impl Simulation {
         Ok(sim)
     }
 
+    /// Checks the start of `scenario` as a run makes it: its bodies, and
+    /// where it has events at update 0, the state they leave (a `Spawn` of
+    /// bodies at one point is a pile-up at the start). Cheap where it has
+    /// none: the bodies alone are made.
+    pub fn check_start(scenario: &Scenario) -> Result<(), InputError> {
+        if !scenario.events.iter().any(|e| e.update() == 0) {
+            return scenario.bodies().map(drop);
+        }
+        let execution = Execution::all_cores(crate::execution::ExecutionMode::Parallel)
+            .map_err(|e| InputError::new(&scenario.origin, e.to_string()))?;
+        Self::from_scenario(scenario, execution).map(drop)
+    }
+
     /// Updates run so far.
     pub fn updates(&self) -> u64 {
         self.app.world().resource::<UpdateCount>().0

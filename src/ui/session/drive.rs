@@ -144,7 +144,7 @@ fn stopped_at_close(
     }
     if let Some(message) = fault.message() {
         failures.closed_stopped(format!(
-            "{}: {message}; nothing was written at the close",
+            "{}: {message}; the state at the close, half an update, was not written",
             state.scenario.origin
         ));
     }

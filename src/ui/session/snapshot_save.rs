@@ -19,7 +19,8 @@ use crate::components::{BodyState, BodyStateQuery};
 use crate::output::{check_new, write_atomically};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::scenario::{Snapshot, write_session, write_snapshot};
-use crate::systems::UpdateCount;
+use crate::simulation::Simulation;
+use crate::systems::{SimulationFault, UpdateCount};
 use crate::timed_events::EventQueue;
 use crate::ui::sets::SandboxSystems;
 
@@ -44,6 +45,7 @@ impl Plugin for SnapshotSavePlugin {
             .init_resource::<OutputFailures>()
             .init_resource::<EventQueue>()
             .init_resource::<UpdateCount>()
+            .init_resource::<SimulationFault>()
             .add_systems(Update, save_snapshot.after(SandboxSystems::Simulate));
     }
 }
@@ -57,6 +59,7 @@ struct RunNow<'w, 's> {
     next_id: Res<'w, NextBodyId>,
     queue: Res<'w, EventQueue>,
     bodies: Query<'w, 's, BodyStateQuery>,
+    fault: Res<'w, SimulationFault>,
 }
 
 /// Saves the state, or the session, where the panel asked.
@@ -67,11 +70,15 @@ fn save_snapshot(mut save: ResMut<SnapshotSave>, state: Res<SandboxState>, run: 
         next_id,
         queue,
         bodies,
+        fault,
     } = run;
     for path in std::mem::take(&mut save.session_requested) {
         let session = queue.session(&state.started_from);
         let outcome = check_new("the file", &path, "choose another name: saves never overwrite")
             .map_err(|e| e.to_string())
+            // What is written loads back: a start the events of update 0
+            // leave that would stop at once is no session.
+            .and_then(|()| Simulation::check_start(&session).map_err(|e| format!("{}: {}", path.display(), e.message)))
             .and_then(|()| {
                 write_atomically(&path, |w| write_session(&session, updates.0, w)).map_err(|e| e.to_string())
             })
@@ -102,8 +109,17 @@ fn save_snapshot(mut save: ResMut<SnapshotSave>, state: Res<SandboxState>, run: 
         events: &pending.events,
         left_out: &pending.left_out,
     };
-    let outcome = check_new("the file", &path, "choose another name: saves never overwrite")
-        .map_err(|e| e.to_string())
+    let stopped = fault.message().map(|m| {
+        format!(
+            "{}: the simulation is stopped ({m}): its state is half an update; restart or rewind the scene, then save",
+            path.display()
+        )
+    });
+    let outcome = stopped
+        .map_or_else(
+            || check_new("the file", &path, "choose another name: saves never overwrite").map_err(|e| e.to_string()),
+            Err,
+        )
         .and_then(|()| write_atomically(&path, |w| write_snapshot(&snapshot, w)).map_err(|e| e.to_string()))
         .map(|()| format!("saved {} bodies to {}", states.len(), path.display()));
     if let Err(e) = &outcome {
@@ -147,5 +163,62 @@ mod tests {
             "{outcome:?}"
         );
         assert_eq!(std::fs::read_to_string(&path).unwrap(), before);
+        assert_eq!(
+            app.world().resource::<OutputFailures>().count(),
+            1,
+            "the refusal is said"
+        );
+
+        // A stopped run's state is half an update: not saved.
+        app.world_mut()
+            .resource_mut::<SimulationFault>()
+            .stop(crate::systems::Fault::NonFinite {
+                id: crate::components::BodyId(3),
+                what: "position",
+                value: Vec3::INFINITY,
+            });
+        let stopped = dir.path().join("stopped.ron");
+        app.world_mut().resource_mut::<SnapshotSave>().requested = Some(stopped.clone());
+        app.update();
+        let outcome = app.world_mut().resource_mut::<SnapshotSave>().outcome.take();
+        assert!(
+            matches!(&outcome, Some(Err(e)) if e.contains("the simulation is stopped") && e.contains("half an update")),
+            "{outcome:?}"
+        );
+        assert!(!stopped.exists());
+        assert_eq!(app.world().resource::<OutputFailures>().count(), 2);
+    }
+
+    /// A session whose events of update 0 leave a start that would stop at
+    /// once (a pile-up) is not written: it would not load back.
+    #[test]
+    fn a_session_that_would_not_load_back_is_not_saved() {
+        let dir = tempfile::tempdir().unwrap();
+        let scenario = Scenario::parse(
+            "Scenario(gravitational_constant: 0, bodies: [Body(position: (0, 0, 0))], events: [Spawn(update: 0, \
+             generators: [Cloud(count: 2000, center: (50, 0, 0), half_size: (0, 0, 0))])])",
+            "pile.ron",
+        )
+        .unwrap();
+        let mut app = App::new();
+        app.add_plugins(MinimalPlugins)
+            .insert_resource(SandboxState::new(scenario.clone(), &SandboxSettings::default()))
+            .insert_resource(scenario.settings())
+            .init_resource::<NextBodyId>()
+            .add_plugins(SnapshotSavePlugin);
+        crate::timed_events::install_events(app.world_mut(), &scenario);
+        let path = dir.path().join("session.ron");
+        app.world_mut()
+            .resource_mut::<SnapshotSave>()
+            .session_requested
+            .push(path.clone());
+        app.update();
+        let outcome = app.world_mut().resource_mut::<SnapshotSave>().outcome.take();
+        assert!(
+            matches!(&outcome, Some(Err(e)) if e.contains("with the events of update 0 applied")),
+            "{outcome:?}"
+        );
+        assert!(!path.exists());
+        assert_eq!(app.world().resource::<OutputFailures>().count(), 1);
     }
 }

@@ -75,7 +75,7 @@ pub enum WindowError {
     #[error("the window app stopped with an error (see the log above)")]
     App(u8),
     /// The simulation was stopped by a fault when the window closed (the
-    /// scenario and the fault, in words): nothing was written at the close.
+    /// scenario and the fault, in words): its state, half an update, was not written.
     #[error("{0}")]
     Stopped(String),
     /// Outputs failed during the run (each said why as it failed).
