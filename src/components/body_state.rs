@@ -39,9 +39,6 @@ pub struct BodyData {
 /// read-only.
 pub type BodyStateQuery = BodyDataReadOnly;
 
-/// One body's item of [`BodyStateQuery`].
-pub type BodyComponents<'a> = BodyDataReadOnlyItem<'a, 'a>;
-
 /// Everything a body is made of but its role where it is not an adopter
 /// ([`spawn_with_roles`] spawns it with the bundle) and its markers
 /// ([`insert_markers`]), in one bundle.
@@ -131,8 +128,22 @@ impl BodyState {
         }
     }
 
+    /// The states of `bodies` (a query's items), sorted by id: the order a
+    /// state's files and its hash take.
+    pub fn sorted_by_id<'w, 's>(bodies: impl Iterator<Item = BodyDataReadOnlyItem<'w, 's>>) -> Vec<Self> {
+        let mut states: Vec<Self> = bodies.map(Self::from_components).collect();
+        states.sort_unstable_by_key(|b| b.id);
+        states
+    }
+
+    /// Every body of `world`, sorted by id.
+    pub fn all_in(world: &mut World) -> Vec<Self> {
+        let mut query = world.query::<BodyStateQuery>();
+        Self::sorted_by_id(query.iter(world))
+    }
+
     /// A body's state from its components.
-    pub fn from_components(body: BodyComponents<'_>) -> Self {
+    pub fn from_components(body: BodyDataReadOnlyItem<'_, '_>) -> Self {
         Self {
             id: *body.id,
             position: body.position.0,

@@ -233,16 +233,9 @@ impl EnsembleFolder {
             problem,
         };
         match out.symlink_metadata() {
-            Ok(meta) if meta.is_dir() => {}
-            Ok(meta) if meta.file_type().is_symlink() && out.is_dir() => {}
-            Ok(meta) => {
-                let kind = if meta.is_file() {
-                    "a file"
-                } else {
-                    node_kind(meta.file_type())
-                };
-                return Err(fail(OutputProblem::NotAFolder(kind)));
-            }
+            // A folder, or a link to one.
+            Ok(_) if out.is_dir() => {}
+            Ok(meta) => return Err(fail(OutputProblem::NotAFolder(node_kind(meta.file_type())))),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
                 let parent = out
                     .parent()
@@ -295,8 +288,8 @@ impl EnsembleFolder {
         for (name, holds) in Self::SUBFOLDERS {
             let path = self.root.join(name);
             let kind = match path.symlink_metadata() {
-                Ok(meta) if meta.is_dir() || (meta.file_type().is_symlink() && path.is_dir()) => continue,
-                Ok(meta) if meta.is_file() => "a file",
+                // A folder, or a link to one.
+                Ok(_) if path.is_dir() => continue,
                 Ok(meta) => node_kind(meta.file_type()),
                 Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
                 Err(e) => {
@@ -318,13 +311,9 @@ impl EnsembleFolder {
         let folder = Self::at(dir);
         if !dir.is_dir() {
             let problem = match dir.symlink_metadata() {
-                Ok(found) if found.is_file() => {
-                    "is a file, not an ensemble's folder; give the folder `kessler ensemble CONFIG --out DIR` made"
-                        .to_owned()
-                }
                 Ok(found) => format!(
                     "is {}, not an ensemble's folder; give the folder `kessler ensemble CONFIG --out DIR` made",
-                    crate::input::node_kind(found.file_type())
+                    node_kind(found.file_type())
                 ),
                 Err(_) => "is not an ensemble's folder (no such folder)".to_owned(),
             };

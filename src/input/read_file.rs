@@ -53,7 +53,7 @@ enum Refused {
 }
 
 /// What kind of file system node `file_type` is, for a message ("a FIFO
-/// (named pipe)", "a directory", ...).
+/// (named pipe)", "a directory", "a file", ...).
 pub fn node_kind(file_type: std::fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
@@ -71,7 +71,9 @@ pub fn node_kind(file_type: std::fs::FileType) -> &'static str {
             return "a socket";
         }
     }
-    if file_type.is_dir() {
+    if file_type.is_file() {
+        "a file"
+    } else if file_type.is_dir() {
         "a directory"
     } else if file_type.is_symlink() {
         "a symbolic link"

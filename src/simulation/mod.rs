@@ -25,6 +25,11 @@ use crate::timed_events::{
     EventLog, EventQueue, EventsPlugin, Pending, install_events, record_event, run_start_events,
 };
 
+/// Whether `scenario` has events at update 0, which belong to its start.
+fn starts_with_events(scenario: &Scenario) -> bool {
+    scenario.events.iter().any(|e| e.update() == 0)
+}
+
 /// A headless simulation.
 pub struct Simulation {
     app: App,
@@ -70,8 +75,20 @@ impl Simulation {
     /// bodies at one point is a pile-up at the start). Cheap where it has
     /// none: the bodies alone are made.
     pub fn check_start(scenario: &Scenario) -> Result<(), InputError> {
-        if !scenario.events.iter().any(|e| e.update() == 0) {
-            return scenario.bodies().map(drop);
+        if starts_with_events(scenario) {
+            Self::check_start_events(scenario)
+        } else {
+            scenario.bodies().map(drop)
+        }
+    }
+
+    /// Checks the state the events of update 0 leave, where `scenario` has
+    /// any, as [`check_start`](Self::check_start) does; nothing where it
+    /// has none (for a scenario whose bodies are known to be sound: a
+    /// running scene's session).
+    pub fn check_start_events(scenario: &Scenario) -> Result<(), InputError> {
+        if !starts_with_events(scenario) {
+            return Ok(());
         }
         let execution = Execution::all_cores(crate::execution::ExecutionMode::Parallel)
             .map_err(|e| InputError::new(&scenario.origin, e.to_string()))?;
@@ -172,11 +189,7 @@ impl Simulation {
 
     /// Every body's state, sorted by id.
     pub fn snapshot(&mut self) -> Vec<BodyState> {
-        let world = self.app.world_mut();
-        let mut query = world.query::<BodyStateQuery>();
-        let mut bodies: Vec<BodyState> = query.iter(world).map(BodyState::from_components).collect();
-        bodies.sort_unstable_by_key(|b| b.id);
-        bodies
+        BodyState::all_in(self.app.world_mut())
     }
 
     /// The hash of the state now (its bodies and next id).

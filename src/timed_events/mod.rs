@@ -12,7 +12,7 @@ use bevy::prelude::*;
 pub use apply::impactor;
 pub use queue::{EventLog, EventQueue, Pending, Queued, apply_due_events};
 
-use crate::components::{BodyState, BodyStateQuery};
+use crate::components::BodyState;
 use crate::resources::SimulationSettings;
 use crate::scenario::{Scenario, check_start};
 use crate::systems::BetweenUpdates;
@@ -39,10 +39,7 @@ pub fn run_start_events(world: &mut World) -> Result<(), String> {
         return Ok(());
     }
     let settings = world.resource::<SimulationSettings>().clone();
-    let mut query = world.query::<BodyStateQuery>();
-    let mut bodies: Vec<BodyState> = query.iter(world).map(BodyState::from_components).collect();
-    bodies.sort_unstable_by_key(|b| b.id);
-    check_start(&bodies, &settings).map_err(|e| format!("with the events of update 0 applied, {e}"))
+    check_start(&BodyState::all_in(world), &settings).map_err(|e| format!("with the events of update 0 applied, {e}"))
 }
 
 /// Makes `scenario`'s events the run's, none applied yet (at a scene's

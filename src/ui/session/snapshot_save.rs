@@ -77,8 +77,11 @@ fn save_snapshot(mut save: ResMut<SnapshotSave>, state: Res<SandboxState>, run: 
         let outcome = check_new("the file", &path, "choose another name: saves never overwrite")
             .map_err(|e| e.to_string())
             // What is written loads back: a start the events of update 0
-            // leave that would stop at once is no session.
-            .and_then(|()| Simulation::check_start(&session).map_err(|e| format!("{}: {}", path.display(), e.message)))
+            // leave that would stop at once is no session (its bodies were
+            // checked when the scene was built).
+            .and_then(|()| {
+                Simulation::check_start_events(&session).map_err(|e| format!("{}: {}", path.display(), e.message))
+            })
             .and_then(|()| {
                 write_atomically(&path, |w| write_session(&session, updates.0, w)).map_err(|e| e.to_string())
             })
@@ -97,8 +100,7 @@ fn save_snapshot(mut save: ResMut<SnapshotSave>, state: Res<SandboxState>, run: 
     let Some(path) = save.requested.take() else {
         return;
     };
-    let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
-    states.sort_unstable_by_key(|b| b.id);
+    let states = BodyState::sorted_by_id(bodies.iter());
     let pending = queue.pending(updates.0, &states, next_id.0);
     let snapshot = Snapshot {
         name: &state.scenario.name,

@@ -9,7 +9,7 @@ use std::collections::VecDeque;
 
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState, BodyStateQuery, spawn_states};
+use crate::components::{BodyId, BodyState, spawn_states};
 use crate::resources::{NextBodyId, SimulationSettings};
 use crate::systems::{Absorbed, CollisionStats, NextEventAt, OverlappingPairs, SimulationFault, UpdateCount};
 use crate::timed_events::{EventLog, EventQueue};
@@ -98,9 +98,7 @@ pub fn take_checkpoints(world: &mut World) {
     if !stale && !due {
         return;
     }
-    let mut query = world.query::<BodyStateQuery>();
-    let mut bodies: Vec<BodyState> = query.iter(world).map(BodyState::from_components).collect();
-    bodies.sort_unstable_by_key(|b| b.id);
+    let bodies = BodyState::all_in(world);
     let checkpoint = Checkpoint {
         updates,
         bodies,
@@ -194,13 +192,7 @@ mod tests {
     }
 
     fn state(world: &mut World) -> Vec<BodyState> {
-        let mut bodies: Vec<BodyState> = world
-            .query::<BodyStateQuery>()
-            .iter(world)
-            .map(BodyState::from_components)
-            .collect();
-        bodies.sort_unstable_by_key(|b| b.id);
-        bodies
+        BodyState::all_in(world)
     }
 
     /// Rewound to a checkpoint and run on, the run is the straight run (with

@@ -74,8 +74,7 @@ pub fn dump_at_close(
     if exits.read().next().is_none() || fault.fault.is_some() {
         return;
     }
-    let mut states: Vec<BodyState> = bodies.iter().map(BodyState::from_components).collect();
-    states.sort_unstable_by_key(|b| b.id);
+    let states = BodyState::sorted_by_id(bodies.iter());
     let hash = StateHash::of_slice(&states, next_id.0);
     match write_atomically(&dump.0, |w| crate::record::write_csv(&states, w)) {
         Ok(()) => println!(
