@@ -416,3 +416,84 @@ fn long_swept_boxes_are_no_pile_up() {
     let pairs = fast.collision_stats().pairs;
     assert!(pairs > 1 << 20, "{pairs} pairs: past the pile-up limit");
 }
+
+/// Two cubes meeting head on at 10 (past `shatter_threshold` 5) while both
+/// fall at 20 an update towards a slab at `slab_z` (an immovable body):
+/// the update's first bodies, its fragments and the slab.
+fn shatter_above(slab_z: f32, third: &str) -> (Vec<BodyState>, kessler::systems::CollisionStats) {
+    let mut s = sim(&format!(
+        "Scenario(gravitational_constant: 0, shatter_threshold: 5, shatter_fragments: 4, min_fragment_size: 0, bodies: [
+            Body(position: (-2.5, 0, 11), velocity: (5, 0, -20)),
+            Body(position: (2.5, 0, 11), velocity: (-5, 0, -20)),
+            Body(position: (0, 0, {slab_z}), half_extents: (30, 30, 1), mass: 1000, interacts: false),
+            {third}
+        ])"
+    ));
+    s.step(1);
+    (s.snapshot(), s.collision_stats())
+}
+
+fn overlaps(a: &BodyState, b: &BodyState) -> bool {
+    ((a.position - b.position).abs() - (a.half_extents + b.half_extents)).max_element() < 0.0
+}
+
+/// A pair that shatters in mid-update above an immovable slab: its
+/// fragments, made where the pair met (3/10 of the update in), move on for
+/// the rest of it and meet the slab on their way (they used to drift on
+/// into it and end the update inside). The slab reverses each fragment's
+/// fall and keeps its speed, so the fragments end outside it with the
+/// kinetic energy and the sideways momentum they had when made: those of
+/// the same fragments with the slab out of reach (its ids, hence the
+/// fragments' random spread, the same).
+#[test]
+fn fragments_meet_what_lies_in_their_way_in_the_update_they_are_made() {
+    let fragments =
+        |bodies: &[BodyState]| -> Vec<BodyState> { bodies.iter().filter(|b| b.id.0 >= 3).copied().collect() };
+    let (free, free_stats) = shatter_above(-1000.0, "");
+    let (met, stats) = shatter_above(0.0, "");
+    assert_eq!((free_stats.shatters, stats.shatters), (1, 1));
+    let (free, met_fragments) = (fragments(&free), fragments(&met));
+    assert_eq!((free.len(), met_fragments.len()), (4, 4));
+    let slab = met.iter().find(|b| b.id.0 == 2).expect("the slab");
+    assert!(
+        free.iter().any(|f| f.position.z - f.half_extents.z < 1.0),
+        "without the slab some fragment ends below its top: the test can fail"
+    );
+    for f in &met_fragments {
+        assert!(!overlaps(f, slab), "a fragment ended inside the slab: {f:?}");
+        assert!(
+            f.position.z - f.half_extents.z >= 1.0 - 1e-5,
+            "below the slab's top: {f:?}"
+        );
+    }
+    let (e_free, e_met) = (energy(&free), energy(&met_fragments));
+    assert!((e_free - e_met).abs() <= 1e-6 * e_free, "energy {e_free} → {e_met}");
+    let (p_free, p_met) = (momentum(&free), momentum(&met_fragments));
+    assert!(
+        (p_free.x - p_met.x).abs() < 1e-4 && (p_free.y - p_met.y).abs() < 1e-4,
+        "{p_free} {p_met}"
+    );
+    assert!(
+        p_free.z < -39.0 && p_met.z > 0.0,
+        "the fall reversed: {p_free} → {p_met}"
+    );
+}
+
+/// A fragment made in an update shatters no more in it (without a size
+/// floor a cascade could otherwise go on without end within one update):
+/// the pair's fragments meet a cube in their way at 20 (past the
+/// threshold) and bounce off it, counted as refused shatters; nothing
+/// ends the update inside anything.
+#[test]
+fn a_fragment_bounces_in_the_update_it_is_made() {
+    let (bodies, stats) = shatter_above(-1000.0, "Body(position: (0, 0, 1), half_extents: (6, 6, 1)),");
+    assert_eq!(stats.shatters, 1, "only the first pair shatters");
+    assert!(stats.refused_shatters >= 1, "{stats:?}");
+    let cube = bodies.iter().find(|b| b.id.0 == 3).expect("the cube is whole");
+    assert!(cube.velocity.z < -1.0, "struck from above: {cube:?}");
+    for (k, a) in bodies.iter().enumerate() {
+        for b in &bodies[k + 1..] {
+            assert!(!overlaps(a, b), "{a:?} inside {b:?}");
+        }
+    }
+}

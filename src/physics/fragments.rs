@@ -390,16 +390,6 @@ fn lay_out(parent: Parent, first_id: BodyId, sizes: impl FnOnce(&mut Rng) -> Vec
         .collect()
 }
 
-/// Fragments made where their pair met, moved on along their velocities
-/// for the `rest` of the update (each keeps where it was made as its
-/// previous position).
-pub fn move_on(fragments: &mut [BodyState], rest: f32) {
-    for fragment in fragments {
-        fragment.previous = fragment.position;
-        fragment.position += fragment.velocity * rest;
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,6 +9,6 @@ mod totals;
 pub use aabb::Aabb;
 pub use fragments::{
     LEAST_SOUND, PowerLaw, box_volume, breakup_fragments, fragment_half_extent, fragments, fragments_for,
-    fragments_sound, move_on, power_law_fragments, power_law_halves, smallest_fragment_edge, sound_floor,
+    fragments_sound, power_law_fragments, power_law_halves, smallest_fragment_edge, sound_floor,
 };
 pub use totals::Totals;

@@ -22,18 +22,17 @@ use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
 pub use contact::{ContactBody, Outcome, respond};
-use outcomes::refuse_shatters;
 
 use crate::components::{Absorbs, BodyId, BodyState};
 use crate::execution::StageExecution;
 use crate::physics::Aabb;
-use crate::resources::{CollisionDetection, NextBodyId, SimulationSettings};
+use crate::resources::{CollisionDetection, MemoryBudget, NextBodyId, SimulationSettings};
 use crate::systems::shatter::{PendingShatters, ShatterQueue};
 use crate::systems::sort::SortedBoxes;
 use crate::systems::sweep::{OverlappingPairs, Pair};
 use crate::systems::{SimulationSystems, SimulationUpdate, StageClocks};
 use matching::{ContactQuery, find_reentries, match_pairs};
-use outcomes::{ShatterBudget, apply_outcomes, write_motion};
+use outcomes::{ShatterBudget, apply_outcomes, shatter_or_refuse, write_motion};
 use time_order::{Neighbourhood, Resolved, Rules, resolve_in_time_order};
 
 /// Counts of what collisions did, for summaries and the HUD.
@@ -93,6 +92,7 @@ impl Plugin for ResponsePlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<CollisionStats>()
             .init_resource::<Absorbed>()
+            .init_resource::<MemoryBudget>()
             .add_systems(SimulationUpdate, respond_to_pairs.in_set(SimulationSystems::Response));
     }
 }
@@ -108,6 +108,7 @@ struct Found<'w, 's> {
     owners: Query<'w, 's, (Entity, &'static BodyId)>,
     absorbers: Query<'w, 's, (), With<Absorbs>>,
     next_id: Res<'w, NextBodyId>,
+    memory: Res<'w, MemoryBudget>,
 }
 
 /// The bodies as the swept contacts look them up: their states, and the
@@ -161,9 +162,8 @@ fn respond_discrete(
     pairs: &[Pair],
     (bodies, busy): (&mut ContactQuery, &mut HashSet<Entity>),
     absorbers: bool,
-    (settings, threshold, next_id): (&SimulationSettings, f32, NextBodyId),
+    (settings, threshold, next_id, memory): (&SimulationSettings, f32, NextBodyId, Option<u64>),
     (stage, body_count): (StageExecution<'_>, usize),
-    pending: &mut PendingShatters,
 ) -> Resolved {
     let dt = settings.time_step;
     // Without an absorber (the thesis scene), no pass over the pairs for one.
@@ -183,14 +183,20 @@ fn respond_discrete(
             range.map(|index| outcome(index, threshold)).collect::<Vec<_>>()
         })
         .concat();
-    let refused = refuse_shatters(&matched, &mut outcomes, settings, body_count, next_id, |index| {
+    let budget = ShatterBudget::new(settings, body_count, next_id, memory);
+    let mut shatters = PendingShatters::default();
+    let refused = shatter_or_refuse(&matched, &mut outcomes, budget, &mut shatters, |index| {
         outcome(index, f32::INFINITY)
     });
-    let responses = apply_outcomes(&matched, outcomes, bodies, pending);
+    let responses = apply_outcomes(&matched, outcomes, bodies, &mut shatters);
     Resolved {
-        reentries,
+        reentries: reentries
+            .into_iter()
+            .map(|(entity, body)| (Some(entity), body))
+            .collect(),
         responses,
         refused,
+        shatters,
         ..Resolved::default()
     }
 }
@@ -211,6 +217,7 @@ fn respond_to_pairs(
         owners,
         absorbers,
         next_id,
+        memory,
     } = found;
     let ShatterQueue {
         mut pending,
@@ -220,7 +227,7 @@ fn respond_to_pairs(
         mut absorbed,
         mut stats,
     } = records;
-    pending.0.clear();
+    pending.clear();
     reentering.0.clear();
     if !(settings.stages.collisions && settings.stages.collision_response) {
         *stats = CollisionStats {
@@ -241,8 +248,9 @@ fn respond_to_pairs(
     } else {
         f32::INFINITY
     };
-    let budget = ShatterBudget::new(&settings, body_count, *next_id);
-    let resolved = if settings.collision_detection == CollisionDetection::Swept {
+    let memory = memory.limit.map(|limit| limit.bodies());
+    let budget = ShatterBudget::new(&settings, body_count, *next_id, memory);
+    let mut resolved = if settings.collision_detection == CollisionDetection::Swept {
         let lookup = Lookup {
             bodies: &bodies,
             sorted: &sorted,
@@ -263,26 +271,26 @@ fn respond_to_pairs(
             &pairs.0,
             (&mut bodies, &mut busy),
             !absorbers.is_empty(),
-            (&settings, threshold, *next_id),
+            (&settings, threshold, *next_id, memory),
             (clock.execution(body_count), body_count),
-            &mut pending,
         )
     };
     for (entity, body) in &resolved.reentries {
         let mass = f64::from(body.mass);
         absorbed.mass += mass;
         absorbed.momentum += body.velocity.as_dvec3() * mass;
-        reentering.0.push(*entity);
+        // A fragment made this update was never added.
+        reentering.0.extend(entity);
     }
-    pending.0.extend(resolved.shatters);
+    *pending = std::mem::take(&mut resolved.shatters);
     let refused = resolved.refused;
     *stats = CollisionStats {
         pairs: pairs.0.len(),
         responses: resolved.responses,
         deferred: resolved.deferred,
         deferred_total: stats.deferred_total + resolved.deferred as u64,
-        shatters: pending.0.len(),
-        shatters_total: stats.shatters_total + pending.0.len() as u64,
+        shatters: pending.pairs,
+        shatters_total: stats.shatters_total + pending.pairs as u64,
         refused_shatters: refused,
         refused_total: stats.refused_total + refused as u64,
         reentries: resolved.reentries.len(),

@@ -4,8 +4,10 @@
 //! earliest touch acts first; a body whose path it changes is tested again
 //! from that moment against its pairs, and — where its new path leaves the
 //! box the broad phase swept for it — against every body that path
-//! reaches; until no contact is left. A Newton's cradle ends as the
-//! analytic sequence of elastic collisions does.
+//! reaches; until no contact is left. A pair that shatters leaves its
+//! fragments where it met, and they take part from then on as any body
+//! does. A Newton's cradle ends as the analytic sequence of elastic
+//! collisions does.
 //!
 //! Contacts are taken in the order of their time, ties in the order their
 //! pairs were found (the broad phase's pairs in id order, then pairs found
@@ -24,7 +26,7 @@ use super::swept::{Contact, Meeting, SweptBody, first_contact, respond_swept};
 use crate::components::BodyState;
 use crate::execution::StageExecution;
 use crate::physics::Aabb;
-use crate::systems::shatter::ShatterPair;
+use crate::systems::shatter::PendingShatters;
 use crate::systems::sort::boxes::swept_box;
 use crate::systems::sweep::Pair;
 
@@ -53,13 +55,14 @@ pub(super) trait Neighbourhood {
 #[derive(Debug, Default)]
 pub(super) struct Resolved {
     /// Bodies absorbed (re-entries), with their state at the touch, in
-    /// time order.
-    pub reentries: Vec<(Entity, BodyState)>,
+    /// time order (no entity: a fragment made this update).
+    pub reentries: Vec<(Option<Entity>, BodyState)>,
     /// Every body whose motion changed: where it ends the update and its
     /// velocity.
     pub motions: Vec<(Entity, Motion)>,
-    /// Pairs that shattered, where they met, in time order.
-    pub shatters: Vec<ShatterPair>,
+    /// Pairs that shattered, in time order, and their fragments where
+    /// they end the update.
+    pub shatters: PendingShatters,
     /// Contacts that bounced or separated a pair.
     pub responses: usize,
     /// Shatters the budget refused (the pair bounced).
@@ -81,7 +84,8 @@ pub(super) struct Rules<'a> {
 
 /// A body taking part in the update's contacts.
 struct Tracked {
-    entity: Entity,
+    /// None for a fragment made this update.
+    entity: Option<Entity>,
     state: BodyState,
     /// Its path through the rest of the update.
     path: SweptBody,
@@ -174,7 +178,7 @@ impl<N: Neighbourhood> Contacts<'_, N> {
         let i = self.bodies.len() as u32;
         let broad = swept_box(state.previous, state.position, state.half_extents);
         self.bodies.push(Tracked {
-            entity,
+            entity: Some(entity),
             state,
             path: SweptBody::from(&(&state).into()),
             version: 0,
@@ -298,6 +302,40 @@ impl<N: Neighbourhood> Contacts<'_, N> {
         }
     }
 
+    /// A fragment made at share `s` of an update of `dt`: from where it is
+    /// made it moves on along its velocity, tested as a body whose path
+    /// left the broad phase's boxes (the grid does not know it).
+    fn made(&mut self, fragment: BodyState, s: f64, dt: f32) {
+        let i = self.bodies.len() as u32;
+        let start = fragment.position.as_dvec3();
+        let velocity = fragment.velocity.as_dvec3();
+        let path = SweptBody {
+            start,
+            end: start + velocity * ((1.0 - s) * f64::from(dt)),
+            from: s,
+            velocity,
+            mass: f64::from(fragment.mass),
+            half_extents: fragment.half_extents.as_dvec3(),
+            interacts: fragment.interacts,
+            spherical: fragment.spherical,
+        };
+        self.bodies.push(Tracked {
+            entity: None,
+            state: fragment,
+            path,
+            version: 0,
+            gone: false,
+            separated: false,
+            changed: false,
+            broad: NOWHERE,
+            covered: NOWHERE,
+            reach: NOWHERE,
+            seen: 0,
+            pairs: Vec::new(),
+        });
+        self.moved(i, path, false);
+    }
+
     /// The state of body `i` at share `s` of the update, moving as it does
     /// then.
     fn state_at(&self, i: u32, s: f64) -> BodyState {
@@ -309,6 +347,13 @@ impl<N: Neighbourhood> Contacts<'_, N> {
         }
     }
 }
+
+/// The box of no points: within it lies no path, and its union with a box
+/// is that box.
+const NOWHERE: Aabb = Aabb {
+    min: Vec3::INFINITY,
+    max: Vec3::NEG_INFINITY,
+};
 
 /// Whether `inner` lies within `outer`.
 fn within(inner: &Aabb, outer: &Aabb) -> bool {
@@ -334,7 +379,7 @@ pub(super) fn resolve_in_time_order<N: Neighbourhood>(
 ) -> Resolved {
     let mut contacts = Contacts::of_pairs(pairs, world, stage);
     let mut resolved = Resolved::default();
-    let limit = MAX_CONTACTS_PER_BODY * contacts.bodies.len();
+    let first_id = rules.budget.next_id();
     let mut changes = 0;
     while let Some(touch) = contacts.touches.pop() {
         let [i, j] = contacts.pairs[touch.pair as usize];
@@ -342,26 +387,28 @@ pub(super) fn resolve_in_time_order<N: Neighbourhood>(
         if a.gone || b.gone || [a.version, b.version] != touch.versions {
             continue;
         }
-        if changes >= limit {
+        if changes >= MAX_CONTACTS_PER_BODY * contacts.bodies.len() {
             resolved.deferred += 1;
             continue;
         }
         changes += contacts.act([i, j], touch.meeting, &mut rules, &mut resolved);
     }
-    resolved.motions = contacts
-        .bodies
-        .iter()
-        .filter(|b| b.changed && !b.gone)
-        .map(|b| {
-            (
-                b.entity,
-                Motion {
-                    position: b.path.end.as_vec3(),
-                    velocity: b.path.velocity.as_vec3(),
-                },
-            )
-        })
-        .collect();
+    for body in contacts.bodies.iter().filter(|b| !b.gone) {
+        let (position, velocity) = (body.path.end.as_vec3(), body.path.velocity.as_vec3());
+        match body.entity {
+            Some(entity) if body.changed => resolved.motions.push((entity, Motion { position, velocity })),
+            Some(_) => {}
+            // Made this update: moved on from where it was made.
+            None => resolved.shatters.fragments.push(BodyState {
+                previous: body.state.position,
+                position,
+                velocity,
+                ..body.state
+            }),
+        }
+    }
+    resolved.shatters.ids = rules.budget.ids_since(first_id);
+    resolved.shatters.outgrown = rules.budget.outgrown();
     resolved
 }
 
@@ -416,7 +463,10 @@ impl<'n, N: Neighbourhood> Contacts<'n, N> {
         let s = meeting.time();
         let (a, b) = (&self.bodies[i as usize], &self.bodies[j as usize]);
         let (path_a, path_b) = (a.path, b.path);
-        let (entities, separated_before) = ([a.entity, b.entity], [a.separated, b.separated]);
+        let separated_before = [a.separated, b.separated];
+        // A fragment made this update shatters no more in it (else a
+        // floorless cascade could shatter without end within one update).
+        let made_now = a.entity.is_none() || b.entity.is_none();
         if a.state.absorbs || b.state.absorbs {
             for (k, other) in [(i, j), (j, i)] {
                 let (body, by) = (&self.bodies[k as usize], &self.bodies[other as usize]);
@@ -431,14 +481,16 @@ impl<'n, N: Neighbourhood> Contacts<'n, N> {
         let mut contact = respond_swept(&path_a, &path_b, meeting, rules.threshold, rules.dt);
         if contact == Contact::Shatter {
             let states = [self.state_at(i, s), self.state_at(j, s)];
-            if rules.budget.allows(&states[0], &states[1]) {
-                resolved.shatters.push(ShatterPair {
-                    entities,
-                    bodies: states,
-                    rest: ((1.0 - s) * f64::from(rules.dt)) as f32,
-                });
-                self.bodies[i as usize].gone = true;
-                self.bodies[j as usize].gone = true;
+            if !made_now && let Some(made) = rules.budget.shatter(&states[0], &states[1]) {
+                resolved.shatters.pairs += 1;
+                for k in [i, j] {
+                    let body = &mut self.bodies[k as usize];
+                    body.gone = true;
+                    resolved.shatters.shattered.extend(body.entity);
+                }
+                for fragment in made {
+                    self.made(fragment, s, rules.dt);
+                }
                 return 0;
             }
             resolved.refused += 1;

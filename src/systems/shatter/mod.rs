@@ -1,33 +1,48 @@
-//! The shatter stage ([`ShatterPlugin`]): pairs marked by the response are
-//! removed and replaced by fragments (`physics::fragments`; docs/design.md,
-//! "Shatter"), and the bodies an absorber took are removed. Fragments get
-//! fresh ids in pair order, so the result does not depend on how the
-//! response was executed.
+//! The shatter stage ([`ShatterPlugin`]): the bodies the response shattered
+//! are removed and the fragments it made (`physics::fragments`;
+//! docs/design.md, "Shatter") are added, and the bodies an absorber took are
+//! removed. The response gives fragments fresh ids in pair order, so the
+//! result does not depend on how it was executed.
 
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 
-use crate::components::{BodyId, BodyState};
-use crate::physics::{fragments_for, move_on};
-use crate::resources::{MemoryBudget, NextBodyId, SimulationSettings};
+use crate::components::BodyState;
+use crate::resources::{MemoryBudget, NextBodyId};
 use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate, StageClocks};
 
-/// Two bodies to shatter, in pair order, for the shatter stage.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShatterPair {
-    /// The two bodies' entities, to despawn.
-    pub entities: [Entity; 2],
-    /// Their state at the impact (with swept detection, where they met).
-    pub bodies: [BodyState; 2],
-    /// The time left in the update after the impact, for which the
-    /// fragments move on from where they are made (swept detection; 0 for
-    /// discrete, which finds pairs where the update ends).
-    pub rest: f32,
+/// What the response shattered this update, for the shatter stage.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct PendingShatters {
+    /// Pairs that shattered.
+    pub pairs: usize,
+    /// The bodies that shattered, to remove, in pair order (with swept
+    /// detection a fragment made earlier in the update may shatter again:
+    /// it was never added, so it is not here).
+    pub shattered: Vec<Entity>,
+    /// The fragments to add, in the order of their fresh ids, where they
+    /// end the update (with swept detection they move on from where their
+    /// pair met and meet what their paths reach: `response/time_order.rs`).
+    pub fragments: Vec<BodyState>,
+    /// Fresh ids handed out: to these fragments and to any that shattered
+    /// again.
+    pub ids: u64,
+    /// The bodies the update would have had when a shatter would have
+    /// outgrown the run's memory ([`MemoryBudget`]): its fragments were
+    /// not made, and this stage stops the run.
+    pub outgrown: Option<u64>,
 }
 
-/// Pairs the response marked for shattering this update, in pair order.
-#[derive(Resource, Clone, Debug, Default)]
-pub struct PendingShatters(pub Vec<ShatterPair>);
+impl PendingShatters {
+    /// Nothing to shatter.
+    pub fn clear(&mut self) {
+        self.pairs = 0;
+        self.shattered.clear();
+        self.fragments.clear();
+        self.ids = 0;
+        self.outgrown = None;
+    }
+}
 
 /// Bodies the response found touching an absorber this update, in pair
 /// order, for this stage to remove.
@@ -44,12 +59,10 @@ pub struct ShatterQueue<'w> {
     pub reentering: ResMut<'w, Reentering>,
 }
 
-/// What bounds the bodies a shatter may make: the run's memory, the bodies
-/// there are, and where a run that would outgrow it stops.
+/// The run's memory, and where a run that would outgrow it stops.
 #[derive(SystemParam)]
-struct Room<'w, 's> {
+struct Room<'w> {
     budget: Res<'w, MemoryBudget>,
-    bodies: Query<'w, 's, (), With<BodyId>>,
     fault: ResMut<'w, SimulationFault>,
 }
 
@@ -66,7 +79,6 @@ impl Plugin for ShatterPlugin {
 }
 
 fn shatter(
-    settings: Res<SimulationSettings>,
     mut clocks: StageClocks,
     queue: ShatterQueue,
     mut next_id: ResMut<NextBodyId>,
@@ -78,54 +90,40 @@ fn shatter(
         mut pending,
         mut reentering,
     } = queue;
-    let Room {
-        budget,
-        bodies,
-        mut fault,
-    } = room;
+    let Room { budget, mut fault } = room;
     for entity in reentering.0.drain(..) {
         commands.entity(entity).despawn();
     }
-    let count = settings.shatter_fragments;
-    // Only an update that shatters can outgrow the memory.
-    let shatters = pending.0.len() as u64;
-    let after = || {
-        (bodies.iter().len() as u64)
-            .saturating_sub(2 * shatters)
-            .saturating_add(shatters * u64::from(count))
-    };
-    if shatters > 0
+    if let Some(after) = pending.outgrown
         && let Some(limit) = budget.limit
-        && let after = after()
-        && after > limit.bodies()
     {
-        // Stopped before the allocation that would fail.
-        pending.0.clear();
+        // The response stopped making fragments before the allocation that
+        // would fail.
+        pending.clear();
         fault.stop(Fault::OutOfMemory { bodies: after, limit });
         return;
     }
-    for pair in pending.0.drain(..) {
-        for entity in pair.entities {
-            commands.entity(entity).despawn();
-        }
-        let [a, b] = &pair.bodies;
-        let mut made = fragments_for(a, b, &settings, BodyId(next_id.0));
-        if pair.rest > 0.0 {
-            move_on(&mut made, pair.rest);
-        }
-        next_id.0 += made.len() as u64;
-        debug_assert!(
-            made.iter().all(|f| !f.has_markers()),
-            "fragments are interacting boxes: no markers to insert"
-        );
-        // A pair's fragments share one role (`fragments_for`); where it is
-        // no adopter's (a self-gravitating cluster's), they carry it.
-        debug_assert!(made.windows(2).all(|f| f[0].role == f[1].role));
-        if made.first().is_some_and(|f| f.role.is_stored()) {
-            commands.spawn_batch(made.into_iter().map(|f| (f.bundle(), f.role)));
+    for entity in pending.shattered.drain(..) {
+        commands.entity(entity).despawn();
+    }
+    next_id.0 += pending.ids;
+    debug_assert!(
+        pending.fragments.iter().all(|f| !f.has_markers()),
+        "fragments are interacting boxes: no markers to insert"
+    );
+    // A pair's fragments share one role (`fragments_for`); where it is no
+    // adopter's (a self-gravitating cluster's), they carry it. Spawned in
+    // id order, in runs of one kind.
+    for run in pending
+        .fragments
+        .chunk_by(|a, b| a.role.is_stored() == b.role.is_stored())
+    {
+        if run[0].role.is_stored() {
+            commands.spawn_batch(run.iter().map(|f| (f.bundle(), f.role)).collect::<Vec<_>>());
         } else {
-            commands.spawn_batch(made.into_iter().map(|f| f.bundle()));
+            commands.spawn_batch(run.iter().map(BodyState::bundle).collect::<Vec<_>>());
         }
     }
+    pending.clear();
     clock.finish();
 }
