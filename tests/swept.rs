@@ -418,9 +418,9 @@ fn long_swept_boxes_are_no_pile_up() {
 }
 
 /// Two cubes meeting head on at 10 (past `shatter_threshold` 5) while both
-/// fall at 20 an update towards a slab at `slab_z` (an immovable body):
-/// the update's first bodies, its fragments and the slab.
-fn shatter_above(slab_z: f32, third: &str) -> (Vec<BodyState>, kessler::systems::CollisionStats) {
+/// fall at 20 an update towards a slab at `slab_z` (an immovable body),
+/// and `third`, after one update.
+fn shatter_above_sim(slab_z: f32, third: &str) -> kessler::Simulation {
     let mut s = sim(&format!(
         "Scenario(gravitational_constant: 0, shatter_threshold: 5, shatter_fragments: 4, min_fragment_size: 0, bodies: [
             Body(position: (-2.5, 0, 11), velocity: (5, 0, -20)),
@@ -430,6 +430,12 @@ fn shatter_above(slab_z: f32, third: &str) -> (Vec<BodyState>, kessler::systems:
         ])"
     ));
     s.step(1);
+    s
+}
+
+/// The bodies and the collision counts after [`shatter_above_sim`].
+fn shatter_above(slab_z: f32, third: &str) -> (Vec<BodyState>, kessler::systems::CollisionStats) {
+    let mut s = shatter_above_sim(slab_z, third);
     (s.snapshot(), s.collision_stats())
 }
 
@@ -496,4 +502,27 @@ fn a_fragment_bounces_in_the_update_it_is_made() {
             assert!(!overlaps(a, b), "{a:?} inside {b:?}");
         }
     }
+}
+
+/// Fragments that fall onto an absorber in the update they are made in
+/// are taken at their touch: never added, their mass and momentum in the
+/// absorbed totals, so that the pair's mass (2) and momentum ((0, 0, −40):
+/// no gravity) are all still there; their ids are used up all the same.
+#[test]
+fn fragments_an_absorber_takes_in_their_first_update_are_accounted_for() {
+    let mut s = shatter_above_sim(
+        -1000.0,
+        "Body(position: (0, 0, -8), shape: Sphere(radius: 8), mass: 1000, interacts: false, absorbs: true),",
+    );
+    let stats = s.collision_stats();
+    assert_eq!(stats.shatters, 1);
+    assert!(stats.reentries >= 1, "{stats:?}");
+    let fragments: Vec<BodyState> = s.snapshot().into_iter().filter(|b| b.id.0 >= 4).collect();
+    assert_eq!(fragments.len() + stats.reentries, 4, "each fragment kept or absorbed");
+    assert_eq!(s.next_body_id(), 8, "four ids handed out");
+    let absorbed = s.absorbed();
+    let mass = fragments.iter().map(|f| f64::from(f.mass)).sum::<f64>() + absorbed.mass;
+    assert!((mass - 2.0).abs() < 1e-6, "mass {mass}");
+    let p = momentum(&fragments) + absorbed.momentum;
+    assert!((p - DVec3::new(0.0, 0.0, -40.0)).length() < 1e-4, "momentum {p}");
 }

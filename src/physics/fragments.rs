@@ -1,4 +1,4 @@
-//! Fragments: what two shattering bodies (the shatter stage) or one body
+//! Fragments: what two shattering bodies (the response) or one body
 //! breaking up (the `Breakup` event) become (docs/design.md, "Shatter").
 //!
 //! `c` fragments share the pair's mass equally, keep its total box volume

@@ -1,5 +1,5 @@
 //! The physics that is not a stage: axis-aligned boxes, the fragments a shatter or a breakup
-//! makes (the shatter stage and the events both make them), and the totals
+//! makes (the response and the events both make them), and the totals
 //! (mass, kinetic energy, momentum) that the records and the HUD show.
 
 mod aabb;

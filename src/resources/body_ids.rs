@@ -8,7 +8,7 @@ use crate::components::BodyId;
 /// out at most it, 2^62 — far below `u64`'s limit, so that no id ever
 /// wraps. Scenario files are held to it when they load (`id`, `next_id`,
 /// and the ids generators hand out), and a shatter that would hand out an
-/// id past it bounces instead (see the response's `refuse_shatters`), so
+/// id past it bounces instead (see the response's `ShatterBudget`), so
 /// that every snapshot a run writes loads back.
 pub const MAX_ID: u64 = 1 << 62;
 

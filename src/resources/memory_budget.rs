@@ -5,8 +5,8 @@ use bevy::prelude::*;
 
 use crate::memory::{BYTES_PER_BODY, MemoryLimit};
 
-/// The memory limit a run is held to: the shatter stage stops the run
-/// before its bodies would outgrow it.
+/// The memory limit a run is held to: the response makes no fragments that
+/// would outgrow it, and the shatter stage then stops the run.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MemoryBudget {
     /// The limit that binds, if any is known.

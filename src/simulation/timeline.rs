@@ -35,7 +35,8 @@ pub struct TimelineRow {
     pub pairs: u64,
     /// Shatters since the previous row.
     pub shatters: u64,
-    /// Shatters refused (size floor, body budget, ids) since the previous row.
+    /// Shatters refused (size floor, body budget, ids, a fragment made in
+    /// the same update) since the previous row.
     pub refused_shatters: u64,
     /// Bodies, mass, kinetic energy and momentum now.
     pub totals: Totals,

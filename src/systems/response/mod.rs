@@ -55,8 +55,9 @@ pub struct CollisionStats {
     pub deferred_total: u64,
     /// Pairs that met fast enough to shatter this update but bounced: their
     /// fragments would have been below `min_fragment_size`, there would
-    /// have been more than `max_bodies` bodies, or a fragment's id would
-    /// have passed [`MAX_ID`](crate::resources::MAX_ID).
+    /// have been more than `max_bodies` bodies, a fragment's id would
+    /// have passed [`MAX_ID`](crate::resources::MAX_ID), or (swept
+    /// detection) one of the two was a fragment made in this update.
     pub refused_shatters: usize,
     /// Refused shatters since the start.
     pub refused_total: u64,

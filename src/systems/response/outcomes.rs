@@ -115,6 +115,8 @@ pub fn shatter_or_refuse(
         if *outcome == Outcome::Shatter {
             match budget.shatter(a, b) {
                 Some(made) => pending.fragments.extend(made),
+                // Past the memory: left a shatter, and the run stops.
+                None if budget.outgrown().is_some() => {}
                 None => {
                     *outcome = unshattered(index);
                     refused += 1;

@@ -380,14 +380,21 @@ pub(super) fn resolve_in_time_order<N: Neighbourhood>(
     let mut contacts = Contacts::of_pairs(pairs, world, stage);
     let mut resolved = Resolved::default();
     let first_id = rules.budget.next_id();
+    // The bound counts the bodies the update started with and the
+    // fragments it made.
+    let tracked = contacts.bodies.len();
     let mut changes = 0;
     while let Some(touch) = contacts.touches.pop() {
+        if rules.budget.outgrown().is_some() {
+            // A shatter would have outgrown the memory: the run stops.
+            break;
+        }
         let [i, j] = contacts.pairs[touch.pair as usize];
         let (a, b) = (&contacts.bodies[i as usize], &contacts.bodies[j as usize]);
         if a.gone || b.gone || [a.version, b.version] != touch.versions {
             continue;
         }
-        if changes >= MAX_CONTACTS_PER_BODY * contacts.bodies.len() {
+        if changes >= MAX_CONTACTS_PER_BODY * (tracked + rules.budget.ids_since(first_id) as usize) {
             resolved.deferred += 1;
             continue;
         }
@@ -491,6 +498,9 @@ impl<'n, N: Neighbourhood> Contacts<'n, N> {
                 for fragment in made {
                     self.made(fragment, s, rules.dt);
                 }
+                return 0;
+            }
+            if rules.budget.outgrown().is_some() {
                 return 0;
             }
             resolved.refused += 1;

@@ -16,16 +16,14 @@ use crate::systems::{Fault, SimulationFault, SimulationSystems, SimulationUpdate
 pub struct PendingShatters {
     /// Pairs that shattered.
     pub pairs: usize,
-    /// The bodies that shattered, to remove, in pair order (with swept
-    /// detection a fragment made earlier in the update may shatter again:
-    /// it was never added, so it is not here).
+    /// The bodies that shattered, to remove, in pair order.
     pub shattered: Vec<Entity>,
     /// The fragments to add, in the order of their fresh ids, where they
     /// end the update (with swept detection they move on from where their
     /// pair met and meet what their paths reach: `response/time_order.rs`).
     pub fragments: Vec<BodyState>,
-    /// Fresh ids handed out: to these fragments and to any that shattered
-    /// again.
+    /// Fresh ids handed out: to these fragments and to any an absorber
+    /// took in the update they were made in.
     pub ids: u64,
     /// The bodies the update would have had when a shatter would have
     /// outgrown the run's memory ([`MemoryBudget`]): its fragments were
@@ -113,15 +111,17 @@ fn shatter(
     );
     // A pair's fragments share one role (`fragments_for`); where it is no
     // adopter's (a self-gravitating cluster's), they carry it. Spawned in
-    // id order, in runs of one kind.
-    for run in pending
-        .fragments
-        .chunk_by(|a, b| a.role.is_stored() == b.role.is_stored())
-    {
-        if run[0].role.is_stored() {
-            commands.spawn_batch(run.iter().map(|f| (f.bundle(), f.role)).collect::<Vec<_>>());
+    // id order, in runs of one kind, moved rather than copied.
+    let mut fragments = std::mem::take(&mut pending.fragments).into_iter().peekable();
+    while let Some(stored) = fragments.peek().map(|f| f.role.is_stored()) {
+        let mut run = Vec::new();
+        while let Some(f) = fragments.next_if(|f| f.role.is_stored() == stored) {
+            run.push(f);
+        }
+        if stored {
+            commands.spawn_batch(run.into_iter().map(|f| (f.bundle(), f.role)));
         } else {
-            commands.spawn_batch(run.iter().map(BodyState::bundle).collect::<Vec<_>>());
+            commands.spawn_batch(run.into_iter().map(|f| f.bundle()));
         }
     }
     pending.clear();

@@ -101,7 +101,7 @@ fn hud(mut contexts: EguiContexts, window: Window, run: Run) -> Result {
             }
             if collisions.refused_total > 0 {
                 ui.label(format!(
-                    "refused shatters {} (total {}): size floor or body budget",
+                    "refused shatters {} (total {}): size floor, body budget or a fragment's first update",
                     collisions.refused_shatters, collisions.refused_total
                 ));
             }
