@@ -156,15 +156,15 @@ struct Records<'w> {
 
 /// Discrete detection's response: the absorbers' partners first (where
 /// `absorbers` are), then the greedy matching in pair order, each matched
-/// pair's outcome (in parallel as `stage` splits them), the shatter budget
-/// in pair order (from the update's `body_count` bodies), and every
-/// outcome written back.
+/// pair's outcome (in parallel as `stage` splits them), the shatter
+/// `budget` in pair order (less the bodies absorbed), and every outcome
+/// written back.
 fn respond_discrete(
     pairs: &[Pair],
     (bodies, busy): (&mut ContactQuery, &mut HashSet<Entity>),
     absorbers: bool,
-    (settings, threshold, next_id, memory): (&SimulationSettings, f32, NextBodyId, Option<u64>),
-    (stage, body_count): (StageExecution<'_>, usize),
+    (settings, threshold, mut budget): (&SimulationSettings, f32, ShatterBudget<'_>),
+    stage: StageExecution<'_>,
 ) -> Resolved {
     let dt = settings.time_step;
     // Without an absorber (the thesis scene), no pass over the pairs for one.
@@ -178,13 +178,14 @@ fn respond_discrete(
         let (_, [a, b]) = &matched[index];
         respond(&a.into(), &b.into(), threshold, dt)
     };
-    let body_count = body_count - reentries.len();
     let mut outcomes: Vec<Outcome> = stage
         .map_chunks_of_at_least(0..matched.len(), PAIRS_PER_CHUNK, |range| {
             range.map(|index| outcome(index, threshold)).collect::<Vec<_>>()
         })
         .concat();
-    let budget = ShatterBudget::new(settings, body_count, next_id, memory);
+    for _ in &reentries {
+        budget.absorbed();
+    }
     let mut shatters = PendingShatters::default();
     let refused = shatter_or_refuse(&matched, &mut outcomes, budget, &mut shatters, |index| {
         outcome(index, f32::INFINITY)
@@ -272,8 +273,8 @@ fn respond_to_pairs(
             &pairs.0,
             (&mut bodies, &mut busy),
             !absorbers.is_empty(),
-            (&settings, threshold, *next_id, memory),
-            (clock.execution(body_count), body_count),
+            (&settings, threshold, budget),
+            clock.execution(body_count),
         )
     };
     for (entity, body) in &resolved.reentries {

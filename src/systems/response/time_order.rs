@@ -175,12 +175,20 @@ impl<N: Neighbourhood> Contacts<'_, N> {
             return Some(i);
         }
         let state = self.world.state(entity)?;
-        let i = self.bodies.len() as u32;
         let broad = swept_box(state.previous, state.position, state.half_extents);
+        let i = self.push(Some(entity), state, SweptBody::from(&(&state).into()), broad);
+        self.index.insert(entity, i);
+        Some(i)
+    }
+
+    /// Adds a tracked body on `path`, within `broad` as the broad phase
+    /// knows it; its index.
+    fn push(&mut self, entity: Option<Entity>, state: BodyState, path: SweptBody, broad: Aabb) -> u32 {
+        let i = self.bodies.len() as u32;
         self.bodies.push(Tracked {
-            entity: Some(entity),
+            entity,
             state,
-            path: SweptBody::from(&(&state).into()),
+            path,
             version: 0,
             gone: false,
             separated: false,
@@ -191,8 +199,7 @@ impl<N: Neighbourhood> Contacts<'_, N> {
             seen: 0,
             pairs: Vec::new(),
         });
-        self.index.insert(entity, i);
-        Some(i)
+        i
     }
 
     /// Adds the pair `i`, `j` unless known or neither interacts; its index.
@@ -306,33 +313,9 @@ impl<N: Neighbourhood> Contacts<'_, N> {
     /// made it moves on along its velocity, tested as a body whose path
     /// left the broad phase's boxes (the grid does not know it).
     fn made(&mut self, fragment: BodyState, s: f64, dt: f32) {
-        let i = self.bodies.len() as u32;
-        let start = fragment.position.as_dvec3();
-        let velocity = fragment.velocity.as_dvec3();
-        let path = SweptBody {
-            start,
-            end: start + velocity * ((1.0 - s) * f64::from(dt)),
-            from: s,
-            velocity,
-            mass: f64::from(fragment.mass),
-            half_extents: fragment.half_extents.as_dvec3(),
-            interacts: fragment.interacts,
-            spherical: fragment.spherical,
-        };
-        self.bodies.push(Tracked {
-            entity: None,
-            state: fragment,
-            path,
-            version: 0,
-            gone: false,
-            separated: false,
-            changed: false,
-            broad: NOWHERE,
-            covered: NOWHERE,
-            reach: NOWHERE,
-            seen: 0,
-            pairs: Vec::new(),
-        });
+        let (position, velocity) = (fragment.position.as_dvec3(), fragment.velocity.as_dvec3());
+        let path = SweptBody::from(&(&fragment).into()).moved_on(s, position, velocity, dt);
+        let i = self.push(None, fragment, path, NOWHERE);
         self.moved(i, path, false);
     }
 
