@@ -4,13 +4,14 @@
 use std::path::{Path, PathBuf};
 
 use ron::extensions::Extensions;
-use serde::de::{MapAccess, Visitor};
+use serde::de::MapAccess;
 use serde::{Deserialize, Deserializer};
 
 use crate::WINDOW_BUILD;
 use crate::execution::{ExecutionMode, SplitPolicy, WorkerPool};
 use crate::input::{
-    ExecutionOptions, InputError, body_count, load_ron, read, read_fields, require, unknown_field, whole_between,
+    ExecutionOptions, InputError, ReadByHand, body_count, deserialize_by_hand, load_ron, read, read_fields, require,
+    unknown_field, whole_between,
 };
 use crate::resources::{DrawMethod, SettingsPatch, Stages, unknown_setting};
 use crate::scenario::{MAX_BODIES, Scenario};
@@ -131,34 +132,34 @@ pub struct Run {
 /// [`Run`]'s own fields in a file.
 const RUN_FIELDS: [&str; 3] = ["bodies", "updates", "stages"];
 
+impl ReadByHand for Run {
+    const NAME: &'static str = "Run";
+    const FIELDS: &'static [&'static str] = &RUN_FIELDS;
+    const EXPECTING: &'static str = "a Run(bodies: …, updates: …)";
+
+    fn read<'de, A: MapAccess<'de>>(map: A) -> Result<Self, A::Error> {
+        let mut run = Run::default();
+        let seen = read_fields(
+            map,
+            |key, map| {
+                match key {
+                    "bodies" => run.bodies = map.next_value::<Bodies>()?.0,
+                    "updates" => run.updates = map.next_value::<Updates>()?.0,
+                    "stages" => run.stages = map.next_value()?,
+                    _ => return Ok(run.execution.read_field(key, map)? || run.settings.read_field(key, map)?),
+                }
+                Ok(true)
+            },
+            |key| unknown_setting(key, &[&RUN_FIELDS[..], &ExecutionOptions::FIELDS].concat()),
+        )?;
+        require(&seen, &["bodies", "updates"])?;
+        Ok(run)
+    }
+}
+
 impl<'de> Deserialize<'de> for Run {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct RunVisitor;
-        impl<'de> Visitor<'de> for RunVisitor {
-            type Value = Run;
-            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str("a Run(bodies: …, updates: …)")
-            }
-            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Run, A::Error> {
-                let mut run = Run::default();
-                let seen = read_fields(
-                    map,
-                    |key, map| {
-                        match key {
-                            "bodies" => run.bodies = map.next_value::<Bodies>()?.0,
-                            "updates" => run.updates = map.next_value::<Updates>()?.0,
-                            "stages" => run.stages = map.next_value()?,
-                            _ => return Ok(run.execution.read_field(key, map)? || run.settings.read_field(key, map)?),
-                        }
-                        Ok(true)
-                    },
-                    |key| unknown_setting(key, &[&RUN_FIELDS[..], &ExecutionOptions::FIELDS].concat()),
-                )?;
-                require(&seen, &["bodies", "updates"])?;
-                Ok(run)
-            }
-        }
-        d.deserialize_struct("Run", &RUN_FIELDS, RunVisitor)
+        deserialize_by_hand(d)
     }
 }
 
@@ -202,47 +203,47 @@ pub struct RenderRun {
 /// [`RenderRun`]'s own fields in a file.
 const RENDER_FIELDS: [&str; 7] = ["bodies", "frames", "method", "simulate", "ups", "vsync", "offscreen"];
 
+impl ReadByHand for RenderRun {
+    const NAME: &'static str = "Render";
+    const FIELDS: &'static [&'static str] = &RENDER_FIELDS;
+    const EXPECTING: &'static str = "a Render(bodies: …, frames: …, method: …)";
+
+    fn read<'de, A: MapAccess<'de>>(map: A) -> Result<Self, A::Error> {
+        let mut run = RenderRun {
+            bodies: 0,
+            frames: 0,
+            method: DrawMethod::default(),
+            simulate: false,
+            ups: None,
+            vsync: false,
+            offscreen: false,
+            execution: ExecutionOptions::default(),
+        };
+        let seen = read_fields(
+            map,
+            |key, map| {
+                match key {
+                    "bodies" => run.bodies = map.next_value::<Bodies>()?.0,
+                    "frames" => run.frames = map.next_value::<Frames>()?.0,
+                    "method" => run.method = map.next_value()?,
+                    "simulate" => run.simulate = map.next_value()?,
+                    "ups" => run.ups = Some(map.next_value::<Ups>()?.0),
+                    "vsync" => run.vsync = map.next_value()?,
+                    "offscreen" => run.offscreen = map.next_value()?,
+                    _ => return run.execution.read_field(key, map),
+                }
+                Ok(true)
+            },
+            |key| unknown_field(key, &[&RENDER_FIELDS[..], &ExecutionOptions::FIELDS].concat()),
+        )?;
+        require(&seen, &["bodies", "frames", "method"])?;
+        Ok(run)
+    }
+}
+
 impl<'de> Deserialize<'de> for RenderRun {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct RenderVisitor;
-        impl<'de> Visitor<'de> for RenderVisitor {
-            type Value = RenderRun;
-            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str("a Render(bodies: …, frames: …, method: …)")
-            }
-            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<RenderRun, A::Error> {
-                let mut run = RenderRun {
-                    bodies: 0,
-                    frames: 0,
-                    method: DrawMethod::default(),
-                    simulate: false,
-                    ups: None,
-                    vsync: false,
-                    offscreen: false,
-                    execution: ExecutionOptions::default(),
-                };
-                let seen = read_fields(
-                    map,
-                    |key, map| {
-                        match key {
-                            "bodies" => run.bodies = map.next_value::<Bodies>()?.0,
-                            "frames" => run.frames = map.next_value::<Frames>()?.0,
-                            "method" => run.method = map.next_value()?,
-                            "simulate" => run.simulate = map.next_value()?,
-                            "ups" => run.ups = Some(map.next_value::<Ups>()?.0),
-                            "vsync" => run.vsync = map.next_value()?,
-                            "offscreen" => run.offscreen = map.next_value()?,
-                            _ => return run.execution.read_field(key, map),
-                        }
-                        Ok(true)
-                    },
-                    |key| unknown_field(key, &[&RENDER_FIELDS[..], &ExecutionOptions::FIELDS].concat()),
-                )?;
-                require(&seen, &["bodies", "frames", "method"])?;
-                Ok(run)
-            }
-        }
-        d.deserialize_struct("Render", &RENDER_FIELDS, RenderVisitor)
+        deserialize_by_hand(d)
     }
 }
 

@@ -13,8 +13,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::execution::ExecutionMode;
 use crate::input::{
-    ExecutionOptions, FieldName, InputError, MAX_UPDATES, parse_ron, read_fields, read_text, require, unknown_field,
-    whole_between,
+    ExecutionOptions, FieldName, InputError, MAX_UPDATES, ReadByHand, deserialize_by_hand, parse_ron, read_fields,
+    read_text, require, unknown_field, whole_between,
 };
 use crate::resources::{self as physics, SimulationSettings, settings};
 
@@ -52,45 +52,45 @@ pub struct EnsembleConfig {
 /// [`EnsembleConfig`]'s own fields in a file, in the order it is written.
 const OWN: [&str; 6] = ["scenario", "steps", "every", "members", "seed", "vary"];
 
+impl ReadByHand for EnsembleConfig {
+    const NAME: &'static str = "Ensemble";
+    const FIELDS: &'static [&'static str] = &OWN;
+    const EXPECTING: &'static str = "an Ensemble(steps: …, members: …)";
+
+    fn read<'de, A: MapAccess<'de>>(map: A) -> Result<Self, A::Error> {
+        let mut config = EnsembleConfig {
+            scenario: None,
+            steps: 0,
+            every: 100,
+            members: 0,
+            seed: 1,
+            vary: Vary::default(),
+            execution: ExecutionOptions::default(),
+        };
+        let seen = read_fields(
+            map,
+            |key, map| {
+                match key {
+                    "scenario" => config.scenario = Some(map.next_value()?),
+                    "steps" => config.steps = map.next_value::<Steps>()?.0,
+                    "every" => config.every = map.next_value::<Every>()?.0,
+                    "members" => config.members = map.next_value::<Members>()?.0,
+                    "seed" => config.seed = map.next_value::<Seed>()?.0,
+                    "vary" => config.vary = map.next_value()?,
+                    _ => return config.execution.read_field(key, map),
+                }
+                Ok(true)
+            },
+            |key| unknown_field(key, &[&OWN[..], &ExecutionOptions::FIELDS].concat()),
+        )?;
+        require(&seen, &["steps", "members"])?;
+        Ok(config)
+    }
+}
+
 impl<'de> Deserialize<'de> for EnsembleConfig {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct EnsembleVisitor;
-        impl<'de> Visitor<'de> for EnsembleVisitor {
-            type Value = EnsembleConfig;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("an Ensemble(steps: …, members: …)")
-            }
-            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<EnsembleConfig, A::Error> {
-                let mut config = EnsembleConfig {
-                    scenario: None,
-                    steps: 0,
-                    every: 100,
-                    members: 0,
-                    seed: 1,
-                    vary: Vary::default(),
-                    execution: ExecutionOptions::default(),
-                };
-                let seen = read_fields(
-                    map,
-                    |key, map| {
-                        match key {
-                            "scenario" => config.scenario = Some(map.next_value()?),
-                            "steps" => config.steps = map.next_value::<Steps>()?.0,
-                            "every" => config.every = map.next_value::<Every>()?.0,
-                            "members" => config.members = map.next_value::<Members>()?.0,
-                            "seed" => config.seed = map.next_value::<Seed>()?.0,
-                            "vary" => config.vary = map.next_value()?,
-                            _ => return config.execution.read_field(key, map),
-                        }
-                        Ok(true)
-                    },
-                    |key| unknown_field(key, &[&OWN[..], &ExecutionOptions::FIELDS].concat()),
-                )?;
-                require(&seen, &["steps", "members"])?;
-                Ok(config)
-            }
-        }
-        d.deserialize_struct("Ensemble", &OWN, EnsembleVisitor)
+        deserialize_by_hand(d)
     }
 }
 
@@ -496,7 +496,7 @@ mod tests {
                 "Ensemble(steps: 1, members: 1, seed: 2, seed: 3)",
                 "duplicate field `seed`",
             ),
-            ("Ensemble(members: 1)", "missing field named `steps`"),
+            ("Ensemble(members: 1)", "missing field `steps`"),
             (
                 "Ensemble(steps: 1, members: 1, every: 0)",
                 "field `every`: must be between 1",

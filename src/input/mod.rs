@@ -21,7 +21,7 @@ pub(crate) use read_file::make_fifo;
 pub use read_file::{MAX_INPUT_BYTES, load_ron, node_kind, read_text, read_text_if_present};
 pub use ron_text::parse_ron;
 pub use spelling::nearly;
-pub use struct_fields::{read_fields, require, unknown_field};
+pub use struct_fields::{ReadByHand, deserialize_by_hand, read_fields, require, unknown_field};
 pub use user_files::{default_calibration_path, default_settings_path};
 pub use value_checks::{
     FieldName, body_count, f32_where, read, shown_number, vec3_where, whole, whole_at_least, whole_between,

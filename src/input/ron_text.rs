@@ -44,15 +44,36 @@ fn char_at(text: &str, line: usize, column: usize) -> Option<char> {
         .nth(column.checked_sub(1)?)
 }
 
+/// RON's words for a required field a struct lacks, "Unexpected missing
+/// field named `f` in `S`" (which read as though the field should not be
+/// there), as "missing field `f` (`S` needs it)"; `None` for other messages.
+fn missing(code: &str) -> Option<String> {
+    const MISSING: &str = "Unexpected missing field named ";
+    let start = code.find(MISSING)?;
+    let rest = &code[start + MISSING.len()..];
+    let (field, outer) = match rest.split_once(" in ") {
+        Some((field, outer)) => (field, Some(outer)),
+        None => (rest, None),
+    };
+    let said = match outer {
+        Some(outer) => format!("missing field {field} ({outer} needs it)"),
+        None => format!("missing field {field}"),
+    };
+    Some(format!("{}{said}", &code[..start]))
+}
+
 /// RON's message `code` in words that point at the mistake and advise
 /// only what the file may hold; `in_value`: the error is in a field's value
 /// on the line (`field: value`), else between fields or items. A second
 /// value where one ends (`Swept | Discrete`, `Swept()`) is named as such, a
 /// comma missing between fields as that; a number where a name belongs is
 /// not advised to be written as a raw identifier (`r#3`), which no file
-/// takes.
+/// takes; a missing field is named with what needs it ([`missing`]).
 fn plain(code: &str, at: Option<char>, in_value: bool) -> String {
     const RAW: &str = "Found invalid std identifier \"";
+    if let Some(said) = missing(code) {
+        return said;
+    }
     if code.ends_with("Expected comma") {
         let found = at.map_or_else(|| "the end of the text".to_owned(), |c| format!("`{c}`"));
         let said = if in_value {
@@ -117,6 +138,14 @@ mod tests {
     #[expect(dead_code, reason = "only parsed")]
     enum Action {
         Launch { count: u32, mass: f32 },
+    }
+
+    #[test]
+    fn a_missing_field_is_named_with_the_struct_that_needs_it() {
+        let e = parse_ron::<Vec<Action>>("[Launch(count: 2)]", "a.ron", Extensions::empty()).unwrap_err();
+        assert_eq!(e.message, "missing field `mass` (`Launch` needs it)", "{e}");
+        let e = parse_ron::<Point>("()", "a.ron", Extensions::empty()).unwrap_err();
+        assert!(e.message.starts_with("missing field `x`"), "{e}");
     }
 
     #[test]

@@ -3,9 +3,42 @@
 //! beside its execution options and physics settings, all written flat —
 //! which RON cannot flatten into a struct that denies unknown fields.
 
-use serde::de::{Error, MapAccess};
+use std::fmt;
+use std::marker::PhantomData;
+
+use serde::de::{Deserializer, Error, MapAccess, Visitor};
 
 use super::FieldName;
+
+/// A struct whose fields a file gives as `Name(field: value, …)`, read by
+/// hand (with [`read_fields`]); [`deserialize_by_hand`] is then the whole
+/// of its `Deserialize`.
+pub trait ReadByHand: Sized {
+    /// Its name in files.
+    const NAME: &'static str;
+    /// Its own fields' names, as RON is told them.
+    const FIELDS: &'static [&'static str];
+    /// What a message says a file should give instead of a wrong value,
+    /// as "a Run(bodies: …, updates: …)".
+    const EXPECTING: &'static str;
+    /// Reads it from its fields.
+    fn read<'de, A: MapAccess<'de>>(map: A) -> Result<Self, A::Error>;
+}
+
+/// A [`ReadByHand`] struct from `d`.
+pub fn deserialize_by_hand<'de, T: ReadByHand, D: Deserializer<'de>>(d: D) -> Result<T, D::Error> {
+    struct ByHand<T>(PhantomData<T>);
+    impl<'de, T: ReadByHand> Visitor<'de> for ByHand<T> {
+        type Value = T;
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str(T::EXPECTING)
+        }
+        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<T, A::Error> {
+            T::read(map)
+        }
+    }
+    d.deserialize_struct(T::NAME, T::FIELDS, ByHand(PhantomData))
+}
 
 /// Reads every field of `map`: `field` reads the value of the field named
 /// by its key and says whether it knows that name; a name it does not know

@@ -2,12 +2,13 @@
 //! laid over other settings — a `Set` event's live settings, a benchmark
 //! run's `settings`.
 
-use serde::de::{Deserializer, Error, MapAccess, Visitor};
+use serde::de::{Deserializer, Error, MapAccess};
 use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use super::settings::SimulationSettings;
 use super::settings_by_name::{setting, unknown_setting};
+use crate::input::{ReadByHand, deserialize_by_hand};
 
 /// Physics settings given values of their own; the others are left as
 /// they are where the patch is applied. Written as the settings a scenario
@@ -73,27 +74,25 @@ impl SettingsPatch {
     }
 }
 
-impl<'de> Deserialize<'de> for SettingsPatch {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct PatchVisitor;
-        impl<'de> Visitor<'de> for PatchVisitor {
-            type Value = SettingsPatch;
+impl ReadByHand for SettingsPatch {
+    const NAME: &'static str = "Settings";
+    const FIELDS: &'static [&'static str] = &[];
+    const EXPECTING: &'static str = "physics settings by their names, as (seed: 5, shatter_threshold: 2.0)";
 
-            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str("physics settings by their names, as (seed: 5, shatter_threshold: 2.0)")
-            }
-
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<SettingsPatch, A::Error> {
-                let mut patch = SettingsPatch::default();
-                while let Some(crate::input::FieldName(key)) = map.next_key()? {
-                    if !patch.read_field(&key, &mut map)? {
-                        return Err(unknown_setting(&key, &[]));
-                    }
-                }
-                Ok(patch)
+    fn read<'de, A: MapAccess<'de>>(mut map: A) -> Result<Self, A::Error> {
+        let mut patch = SettingsPatch::default();
+        while let Some(crate::input::FieldName(key)) = map.next_key()? {
+            if !patch.read_field(&key, &mut map)? {
+                return Err(unknown_setting(&key, &[]));
             }
         }
-        d.deserialize_struct("Settings", &[], PatchVisitor)
+        Ok(patch)
+    }
+}
+
+impl<'de> Deserialize<'de> for SettingsPatch {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        deserialize_by_hand(d)
     }
 }
 

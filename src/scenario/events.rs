@@ -3,15 +3,13 @@
 //! changed, each after a given number of updates. This file is their
 //! format; `src/timed_events/` applies them.
 
-use std::fmt;
-
-use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess};
 use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use super::field_checks;
 use super::format::{Body, Generator, Template, given};
-use crate::input::FieldName;
+use crate::input::{FieldName, ReadByHand, deserialize_by_hand};
 use crate::resources::{Applies, FragmentSizes, SettingsPatch, SimulationSettings, setting, settings as settings_list};
 
 /// One event. Each happens after `update` updates have run, before the
@@ -210,55 +208,55 @@ impl Event {
     }
 }
 
+impl ReadByHand for Set {
+    const NAME: &'static str = "Set";
+    const FIELDS: &'static [&'static str] = &["update"];
+    const EXPECTING: &'static str = "a Set(update: U, <setting>: value, ...)";
+
+    fn read<'de, A: MapAccess<'de>>(mut map: A) -> Result<Self, A::Error> {
+        let mut update = None;
+        let mut settings = SettingsPatch::default();
+        while let Some(FieldName(key)) = map.next_key()? {
+            if key == "update" {
+                if update.is_some() {
+                    return Err(de::Error::custom("duplicate field `update`"));
+                }
+                update = Some(map.next_value_seed(Update)?);
+                continue;
+            }
+            let live: Vec<String> = settings_list()
+                .iter()
+                .filter(|s| s.applies == Applies::Live)
+                .map(|s| format!("`{}`", s.key))
+                .collect();
+            let Some(info) = setting(&key) else {
+                return Err(de::Error::custom(format!(
+                    "unknown field `{key}`, expected `update` or a live setting: {}",
+                    live.join(", ")
+                )));
+            };
+            if info.applies != Applies::Live {
+                return Err(de::Error::custom(format!(
+                    "field `{key}`: is applied on restart, so no event changes it; a Set changes the live \
+                     settings: {}",
+                    live.join(", ")
+                )));
+            }
+            settings.read_field(info.key, &mut map)?;
+        }
+        let update = update.ok_or_else(|| de::Error::custom("missing field `update`"))?;
+        if settings.is_empty() {
+            return Err(de::Error::custom(
+                "field `update`: a Set needs at least one live setting beside it",
+            ));
+        }
+        Ok(Set { update, settings })
+    }
+}
+
 impl<'de> Deserialize<'de> for Set {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct SetVisitor;
-        impl<'de> Visitor<'de> for SetVisitor {
-            type Value = Set;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("a Set(update: U, <setting>: value, ...)")
-            }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Set, A::Error> {
-                let mut update = None;
-                let mut settings = SettingsPatch::default();
-                while let Some(FieldName(key)) = map.next_key()? {
-                    if key == "update" {
-                        if update.is_some() {
-                            return Err(de::Error::custom("duplicate field `update`"));
-                        }
-                        update = Some(map.next_value_seed(Update)?);
-                        continue;
-                    }
-                    let live: Vec<String> = settings_list()
-                        .iter()
-                        .filter(|s| s.applies == Applies::Live)
-                        .map(|s| format!("`{}`", s.key))
-                        .collect();
-                    let Some(info) = setting(&key) else {
-                        return Err(de::Error::custom(format!(
-                            "unknown field `{key}`, expected `update` or a live setting: {}",
-                            live.join(", ")
-                        )));
-                    };
-                    if info.applies != Applies::Live {
-                        return Err(de::Error::custom(format!(
-                            "field `{key}`: is applied on restart, so no event changes it; a Set changes the live \
-                             settings: {}",
-                            live.join(", ")
-                        )));
-                    }
-                    settings.read_field(info.key, &mut map)?;
-                }
-                let update = update.ok_or_else(|| de::Error::custom("missing field `update`"))?;
-                if settings.is_empty() {
-                    return Err(de::Error::custom(
-                        "field `update`: a Set needs at least one live setting beside it",
-                    ));
-                }
-                Ok(Set { update, settings })
-            }
-        }
-        d.deserialize_struct("Set", &["update"], SetVisitor)
+        deserialize_by_hand(d)
     }
 }
 

@@ -5,16 +5,14 @@
 //! struct into one that denies unknown fields, and denying them is what
 //! turns a misspelled field into an error.
 
-use std::fmt;
-
-use serde::de::{Deserializer, MapAccess, Visitor};
+use serde::de::{Deserializer, MapAccess};
 use serde::ser::{SerializeStruct, Serializer};
 use serde::{Deserialize, Serialize};
 
 use super::contents::Scenario;
 use super::field_checks;
 use super::listed::Listed;
-use crate::input::read_fields;
+use crate::input::{ReadByHand, deserialize_by_hand, read_fields};
 use crate::resources::{settings, unknown_setting};
 
 /// The scenario's own fields, in file order (the settings come after
@@ -31,35 +29,35 @@ struct Name(#[serde(deserialize_with = "field_checks::name")] String);
 #[serde(transparent)]
 struct NextId(#[serde(deserialize_with = "field_checks::next_id")] Option<u64>);
 
+impl ReadByHand for Scenario {
+    const NAME: &'static str = "Scenario";
+    const FIELDS: &'static [&'static str] = &OWN;
+    const EXPECTING: &'static str = "a Scenario(...)";
+
+    fn read<'de, A: MapAccess<'de>>(map: A) -> Result<Self, A::Error> {
+        let mut scenario = Scenario::default();
+        read_fields(
+            map,
+            |key, map| {
+                match key {
+                    "name" => scenario.name = map.next_value::<Name>()?.0,
+                    "next_id" => scenario.next_id = map.next_value::<NextId>()?.0,
+                    "bodies" => scenario.bodies = map.next_value_seed(Listed::new("bodies"))?,
+                    "generators" => scenario.generators = map.next_value_seed(Listed::new("generators"))?,
+                    "events" => scenario.events = map.next_value_seed(Listed::new("events"))?,
+                    other => return scenario.physics.read_field(other, map),
+                }
+                Ok(true)
+            },
+            |key| unknown_setting(key, &OWN),
+        )?;
+        Ok(scenario)
+    }
+}
+
 impl<'de> Deserialize<'de> for Scenario {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct ScenarioVisitor;
-        impl<'de> Visitor<'de> for ScenarioVisitor {
-            type Value = Scenario;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("a Scenario(...)")
-            }
-            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Scenario, A::Error> {
-                let mut scenario = Scenario::default();
-                read_fields(
-                    map,
-                    |key, map| {
-                        match key {
-                            "name" => scenario.name = map.next_value::<Name>()?.0,
-                            "next_id" => scenario.next_id = map.next_value::<NextId>()?.0,
-                            "bodies" => scenario.bodies = map.next_value_seed(Listed::new("bodies"))?,
-                            "generators" => scenario.generators = map.next_value_seed(Listed::new("generators"))?,
-                            "events" => scenario.events = map.next_value_seed(Listed::new("events"))?,
-                            other => return scenario.physics.read_field(other, map),
-                        }
-                        Ok(true)
-                    },
-                    |key| unknown_setting(key, &OWN),
-                )?;
-                Ok(scenario)
-            }
-        }
-        d.deserialize_struct("Scenario", &OWN, ScenarioVisitor)
+        deserialize_by_hand(d)
     }
 }
 
