@@ -23,6 +23,12 @@ passes() {
     local file="$work/s${seed}_dt${dt}"
     sed -e "s/seed: 1,/seed: $seed, max_bodies: 10200,/" -e "s/time_step: 1.0,/time_step: $dt,/" \
         -e "s/Fire(update: 100,/Fire(update: $fire,/" "$root/scenarios/asat.ron" >"$file.ron"
+    for made in "max_bodies: 10200" "time_step: $dt," "Fire(update: $fire,"; do
+        if ! grep -qF "$made" "$file.ron"; then
+            echo "scenarios/asat.ron no longer reads as this script expects (no \`$made\` after the edit)" >&2
+            exit 2
+        fi
+    done
     "$kessler" headless "$file.ron" --steps "$steps" --timeline "$file.csv" --every "$every" \
         --mode sequential >/dev/null
     awk -F, -v dt="$dt" 'NR > 1 && $2 >= 10000 { print $1 * dt; found = 1; exit }
@@ -31,8 +37,9 @@ passes() {
 echo "seed,dt_1,dt_1/4"
 for seed in $(seq "$seeds"); do
     passes "$seed" 1.0 100 20000 1 &
+    coarse=$!
     passes "$seed" 0.25 400 80000 4
-    wait
+    wait "$coarse"
     echo "$seed,$(cat "$work/s${seed}_dt1.0.time"),$(cat "$work/s${seed}_dt0.25.time")"
 done | tee "$work/table.csv"
 awk -F, '{ a[NR] = $2; b[NR] = $3; if ($2 == "never" || $3 == "never") never++ }
