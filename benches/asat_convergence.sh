@@ -14,34 +14,45 @@ kessler="${1:-target/release/kessler}"
 seeds="${2:-8}"
 root="$(cd "$(dirname "$0")/.." && pwd)"
 work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+# An interrupted run (Ctrl-C, a kill) leaves no simulation behind: the run
+# in the background ignores Ctrl-C, so the exit stops it.
+trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
+trap 'exit 130' INT TERM
+# asat.ron for SEED at step DT, its interceptor at update FIRE, in FILE.
+edited() {
+    local seed=$1 dt=$2 fire=$3 file=$4
+    sed -e "s/seed: 1,/seed: $seed, max_bodies: 10200,/" -e "s/time_step: 1.0,/time_step: $dt,/" \
+        -e "s/Fire(update: 100,/Fire(update: $fire,/" "$root/scenarios/asat.ron" >"$file"
+    for made in "max_bodies: 10200" "time_step: $dt," "Fire(update: $fire,"; do
+        if ! grep -qF "$made" "$file"; then
+            echo "scenarios/asat.ron no longer reads as this script expects (no \`$made\` after the edit)" >&2
+            return 2
+        fi
+    done
+}
 # The time (update × dt) of the first timeline row with 10 000 bodies or
 # more, "never" if none, for SEED at step DT, its interceptor at FIRE,
 # over STEPS updates with a row every EVERY.
 passes() {
     local seed=$1 dt=$2 fire=$3 steps=$4 every=$5
     local file="$work/s${seed}_dt${dt}"
-    sed -e "s/seed: 1,/seed: $seed, max_bodies: 10200,/" -e "s/time_step: 1.0,/time_step: $dt,/" \
-        -e "s/Fire(update: 100,/Fire(update: $fire,/" "$root/scenarios/asat.ron" >"$file.ron"
-    for made in "max_bodies: 10200" "time_step: $dt," "Fire(update: $fire,"; do
-        if ! grep -qF "$made" "$file.ron"; then
-            echo "scenarios/asat.ron no longer reads as this script expects (no \`$made\` after the edit)" >&2
-            exit 2
-        fi
-    done
+    edited "$seed" "$dt" "$fire" "$file.ron"
+    # (Its progress bar, which would cross the other run's, kept for an error.)
     "$kessler" headless "$file.ron" --steps "$steps" --timeline "$file.csv" --every "$every" \
-        --mode sequential >/dev/null
+        --mode sequential >/dev/null 2>"$file.err" || { tail -n 1 "$file.err" >&2; return 1; }
     awk -F, -v dt="$dt" 'NR > 1 && $2 >= 10000 { print $1 * dt; found = 1; exit }
         END { if (!found) print "never" }' "$file.csv" >"$file.time"
 }
+# The edits first, once, so that a changed scenario says so in one line.
+edited 1 1.0 100 "$work/check.ron" && edited 1 0.25 400 "$work/check.ron" || exit 2
 echo "seed,dt_1,dt_1/4"
 for seed in $(seq "$seeds"); do
     passes "$seed" 1.0 100 20000 1 &
     coarse=$!
     passes "$seed" 0.25 400 80000 4
     wait "$coarse"
-    echo "$seed,$(cat "$work/s${seed}_dt1.0.time"),$(cat "$work/s${seed}_dt0.25.time")"
-done | tee "$work/table.csv"
+    echo "$seed,$(cat "$work/s${seed}_dt1.0.time"),$(cat "$work/s${seed}_dt0.25.time")" | tee -a "$work/table.csv"
+done
 awk -F, '{ a[NR] = $2; b[NR] = $3; if ($2 == "never" || $3 == "never") never++ }
     function median(v, k, i, j, t, s) {
         k = 0; for (i in v) s[++k] = v[i]
