@@ -111,17 +111,16 @@ fn shatter(
     );
     // A pair's fragments share one role (`fragments_for`); where it is no
     // adopter's (a self-gravitating cluster's), they carry it. Spawned in
-    // id order, in runs of one kind, moved rather than copied.
-    let mut fragments = std::mem::take(&mut pending.fragments).into_iter().peekable();
-    while let Some(stored) = fragments.peek().map(|f| f.role.is_stored()) {
-        let mut run = Vec::new();
-        while let Some(f) = fragments.next_if(|f| f.role.is_stored() == stored) {
-            run.push(f);
-        }
-        if stored {
-            commands.spawn_batch(run.into_iter().map(|f| (f.bundle(), f.role)));
+    // id order, in runs of one kind (one batch of bundles each; the
+    // fragments' buffer is kept for the next update).
+    for run in pending
+        .fragments
+        .chunk_by(|a, b| a.role.is_stored() == b.role.is_stored())
+    {
+        if run[0].role.is_stored() {
+            commands.spawn_batch(run.iter().map(|f| (f.bundle(), f.role)).collect::<Vec<_>>());
         } else {
-            commands.spawn_batch(run.into_iter().map(|f| f.bundle()));
+            commands.spawn_batch(run.iter().map(BodyState::bundle).collect::<Vec<_>>());
         }
     }
     pending.clear();
