@@ -54,6 +54,7 @@ fn made_up_folder(dir: &Path, members: u64, rows: u64) -> (EnsembleFolder, Recor
                 },
                 reentries: r % 3,
                 absorbed_mass: r as f64,
+                deferred: 0,
                 state_hash: StateHash(index << 32 | r),
             })
             .collect();

@@ -526,3 +526,28 @@ fn fragments_an_absorber_takes_in_their_first_update_are_accounted_for() {
     let p = momentum(&fragments) + absorbed.momentum;
     assert!((p - DVec3::new(0.0, 0.0, -40.0)).length() < 1e-4, "momentum {p}");
 }
+
+/// A cube caught between two walls (non-interacting boxes) 0.1 wider
+/// than it, at 50 units an update: it crosses the gap 500 times an
+/// update, past the swept contacts' bound (`MAX_CONTACTS_PER_BODY` for
+/// each of the three bodies). The contacts past it wait for the next
+/// update and are counted, in the collision statistics and the
+/// timeline's `deferred` column; the cube never ends an update inside a
+/// wall, and its speed is kept (the walls do not move).
+#[test]
+fn a_cube_caught_between_two_walls_defers_its_contacts_and_stays_between_them() {
+    let mut s = sim("Scenario(gravitational_constant: 0, shatter_threshold: 1000, bodies: [
+            Body(position: (0, 0, 0), velocity: (50, 0, 0)),
+            Body(position: (-2.05, 0, 0), half_extents: (1, 10, 10), interacts: false),
+            Body(position: (2.05, 0, 0), half_extents: (1, 10, 10), interacts: false),
+        ])");
+    let mut timeline = kessler::simulation::Timeline::new(1);
+    timeline.run(&mut s, 3, |_| {});
+    let deferred: Vec<u64> = timeline.rows().iter().map(|r| r.deferred).collect();
+    assert_eq!(deferred[0], 0, "nothing before the first update");
+    assert!(deferred[1..].iter().all(|&d| d > 0), "{deferred:?}");
+    assert_eq!(deferred.iter().sum::<u64>(), s.collision_stats().deferred_total);
+    let cube = s.snapshot()[0];
+    assert!(cube.position.x.abs() <= 0.05 + 1e-5, "between the walls: {cube:?}");
+    assert_eq!(cube.velocity.length(), 50.0, "{cube:?}");
+}

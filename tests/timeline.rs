@@ -8,7 +8,7 @@ mod common {
 
 use common::binary::kessler;
 
-const HEADER: &str = "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,reentries,absorbed_mass,state_hash";
+const HEADER: &str = "update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,reentries,absorbed_mass,deferred,state_hash";
 
 /// Runs `headless` with a timeline; returns the rows (as numbers, the state
 /// hash left out) and the summary line, whose state hash is the last row's.
@@ -72,7 +72,14 @@ fn a_row_every_k_updates_and_mass_kept_through_the_cascade() {
     let updates: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     let expected: Vec<f64> = (0..10).map(|k| f64::from(k) * 10.0).chain([95.0]).collect();
     assert_eq!(updates, expected, "a row at 0, every 10 updates, and after the last");
-    assert!(rows.iter().all(|r| r.len() == 12), "twelve numbers and the hash a row");
+    assert!(
+        rows.iter().all(|r| r.len() == 13),
+        "thirteen numbers and the hash a row"
+    );
+    // The cascade never reaches the swept contacts' bound, and the summary
+    // says nothing of deferred contacts.
+    assert!(rows.iter().all(|r| r[12] == 0.0), "no contact deferred");
+    assert!(!summary.contains("deferred"), "{summary}");
     let shatters: f64 = rows.iter().map(|r| r[3]).sum();
     assert_eq!(shatters, summary_count(&summary, " shatters"), "{summary}");
     assert!(shatters > 500.0, "shattering happened: {shatters}");

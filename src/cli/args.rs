@@ -263,7 +263,7 @@ pub struct HeadlessArgs {
     #[arg(long, value_name = "auto|direct|tree[:THETA]", help = GravityMethod::help())]
     pub gravity: Option<GravityMethod>,
     /// Write a row every K updates (`--every`) as CSV
-    /// (`update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,reentries,absorbed_mass,state_hash`).
+    /// (`update,bodies,pairs,shatters,refused_shatters,mass,kinetic_energy,momentum_x,momentum_y,momentum_z,reentries,absorbed_mass,deferred,state_hash`).
     #[arg(long, value_name = "FILE")]
     pub timeline: Option<PathBuf>,
     /// Updates between two timeline rows (needs `--timeline`).

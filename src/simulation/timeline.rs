@@ -44,6 +44,10 @@ pub struct TimelineRow {
     pub reentries: u64,
     /// Mass absorbed since the start: with `mass`, what the physics keeps.
     pub absorbed_mass: f64,
+    /// Contacts left for the next update since the previous row: swept
+    /// detection acts on a bounded number of contacts an update
+    /// (`MAX_CONTACTS_PER_BODY`, `systems/response/time_order.rs`).
+    pub deferred: u64,
     /// The state's hash now (the last column, after those that came
     /// before it).
     pub state_hash: StateHash,
@@ -63,6 +67,7 @@ crate::csv_row!(TimelineRow, |r| {
     momentum_z: r.totals.momentum.z,
     reentries: r.reentries,
     absorbed_mass: r.absorbed_mass,
+    deferred: r.deferred,
     state_hash: r.state_hash,
 });
 
@@ -71,8 +76,9 @@ crate::csv_row!(TimelineRow, |r| {
 pub struct Timeline {
     every: u64,
     rows: Vec<TimelineRow>,
-    /// Shatters, refusals and re-entries since the start at the last row.
-    counted: (u64, u64, u64),
+    /// Shatters, refusals, re-entries and deferred contacts since the
+    /// start at the last row.
+    counted: (u64, u64, u64, u64),
 }
 
 impl Timeline {
@@ -81,7 +87,7 @@ impl Timeline {
         Self {
             every: every.max(1),
             rows: Vec::new(),
-            counted: (0, 0, 0),
+            counted: (0, 0, 0, 0),
         }
     }
 
@@ -99,7 +105,7 @@ impl Timeline {
     pub fn record(&mut self, sim: &mut Simulation, update: u64) {
         let stats = sim.collision_stats();
         let pairs = if update == 0 { 0 } else { stats.pairs as u64 };
-        let (shatters, refused, reentries) = self.counted;
+        let (shatters, refused, reentries, deferred) = self.counted;
         self.rows.push(TimelineRow {
             update,
             pairs,
@@ -108,9 +114,15 @@ impl Timeline {
             totals: sim.totals(),
             reentries: stats.reentries_total - reentries,
             absorbed_mass: sim.absorbed().mass,
+            deferred: stats.deferred_total - deferred,
             state_hash: sim.state_hash(),
         });
-        self.counted = (stats.shatters_total, stats.refused_total, stats.reentries_total);
+        self.counted = (
+            stats.shatters_total,
+            stats.refused_total,
+            stats.reentries_total,
+            stats.deferred_total,
+        );
     }
 
     /// Runs `updates` updates of `sim`, a row before the first (see

@@ -32,11 +32,13 @@ use crate::systems::sweep::Pair;
 
 /// Most contacts that change a path (bounces and separations) per body
 /// taking part, within one update: past it the rest of the update's
-/// contacts wait for the next update and are counted
-/// ([`Resolved::deferred`]). Elastic chains end after a few contacts a
-/// body; a body caught between two walls takes one contact for each time
-/// it crosses the gap. Measured never to be reached in the shipped scenes
-/// (tests/contacts.rs).
+/// contacts wait for the next update, the bodies of each stopping where
+/// they touch (`Contacts::hold`), and are counted
+/// ([`Resolved::deferred`]; absorptions, which change no path, go on).
+/// Elastic chains end after a few contacts a body; a body caught between
+/// two walls takes one contact for each time it crosses the gap
+/// (tests/swept.rs). Never reached in the shipped scenes (the timeline's
+/// `deferred` column; docs/benchmarks.md).
 pub const MAX_CONTACTS_PER_BODY: usize = 64;
 
 /// Where the contacts find bodies beyond the broad phase's pairs.
@@ -67,7 +69,8 @@ pub(super) struct Resolved {
     pub responses: usize,
     /// Shatters the budget refused (the pair bounced).
     pub refused: usize,
-    /// Contacts left for the next update at [`MAX_CONTACTS_PER_BODY`].
+    /// Contacts left for the next update at [`MAX_CONTACTS_PER_BODY`], at
+    /// which bodies stopped.
     pub deferred: usize,
 }
 
@@ -377,8 +380,11 @@ pub(super) fn resolve_in_time_order<N: Neighbourhood>(
         if a.gone || b.gone || [a.version, b.version] != touch.versions {
             continue;
         }
-        if changes >= MAX_CONTACTS_PER_BODY * (tracked + rules.budget.ids_since(first_id) as usize) {
-            resolved.deferred += 1;
+        let absorbing = a.state.absorbs || b.state.absorbs;
+        if !absorbing && changes >= MAX_CONTACTS_PER_BODY * (tracked + rules.budget.ids_since(first_id) as usize) {
+            if contacts.hold([i, j], touch.meeting, rules.dt) {
+                resolved.deferred += 1;
+            }
             continue;
         }
         changes += contacts.act([i, j], touch.meeting, &mut rules, &mut resolved);
@@ -443,6 +449,41 @@ impl<'n, N: Neighbourhood> Contacts<'n, N> {
             })
             .collect();
         contacts
+    }
+
+    /// Past [`MAX_CONTACTS_PER_BODY`]: the contact of bodies `i` and `j`
+    /// at `meeting`, whose touch is current, is left for the next update,
+    /// and each of the two that would change its path stops where they
+    /// touch for the rest of this one (its velocity kept), so that neither
+    /// passes into the other. True when it stopped a body. A body stops
+    /// once: terminates.
+    fn hold(&mut self, [i, j]: [u32; 2], meeting: Meeting, dt: f32) -> bool {
+        let (a, b) = (&self.bodies[i as usize], &self.bodies[j as usize]);
+        let (stops_a, stops_b) = match respond_swept(&a.path, &b.path, meeting, f32::INFINITY, dt) {
+            Contact::Bounce(pa, pb) | Contact::Separate(pa, pb) => (pa.is_some(), pb.is_some()),
+            Contact::Ignore | Contact::Shatter => return false,
+        };
+        let s = meeting.time();
+        let mut held = false;
+        for (k, stops) in [(i, stops_a), (j, stops_b)] {
+            let path = self.bodies[k as usize].path;
+            if !stops || path.start == path.end {
+                continue;
+            }
+            let here = path.at(s);
+            self.moved(
+                k,
+                SweptBody {
+                    start: here,
+                    end: here,
+                    from: s,
+                    ..path
+                },
+                false,
+            );
+            held = true;
+        }
+        held
     }
 
     /// The contact of bodies `i` and `j` at `meeting`, whose touch is
