@@ -17,8 +17,11 @@ use crate::ui::session::SandboxSettings;
 /// A sphere standing for a celestial body.
 #[derive(Component, Debug)]
 pub struct CelestialVisual {
-    /// The body it stands for.
+    /// The entity that holds the body it stands for.
     pub body: Entity,
+    /// Its id: the entity is found again by it where the body came to be
+    /// held by another (see `ui/view/selection.rs`).
+    pub id: BodyId,
 }
 
 /// The translucent collision box of a celestial body.
@@ -123,6 +126,7 @@ type CelestialQuery<'w, 's, F> = Query<
     's,
     (
         Entity,
+        &'static BodyId,
         &'static Position,
         &'static HalfExtents,
         &'static Mass,
@@ -141,10 +145,15 @@ fn spawn_celestial_visuals(
     added: CelestialQuery<Added<BodyId>>,
     all: CelestialQuery<()>,
 ) {
-    let celestial =
-        |&(.., role, non_interacting): &(Entity, &Position, &HalfExtents, &Mass, Option<&GravityRole>, bool)| {
-            is_celestial(GravityRole::of(role), non_interacting)
-        };
+    let celestial = |&(.., role, non_interacting): &(
+        Entity,
+        &BodyId,
+        &Position,
+        &HalfExtents,
+        &Mass,
+        Option<&GravityRole>,
+        bool,
+    )| { is_celestial(GravityRole::of(role), non_interacting) };
     if !added.iter().any(|body| celestial(&body)) {
         return;
     }
@@ -153,13 +162,13 @@ fn spawn_celestial_visuals(
         .filter(celestial)
         .map(|(.., mass, _, _)| mass.0)
         .fold(0.0f32, f32::max);
-    for (body, position, half, mass, ..) in added.iter().filter(celestial) {
+    for (body, &id, position, half, mass, ..) in added.iter().filter(celestial) {
         let radius = half.0.min_element();
         let earth = mass.0 >= heaviest;
         let material = if earth { &assets.planet } else { &assets.moon };
         let mut visual = commands.spawn((
             Name::new("Celestial"),
-            CelestialVisual { body },
+            CelestialVisual { body, id },
             Mesh3d(assets.sphere.clone()),
             MeshMaterial3d(material.clone()),
             Transform::from_translation(position.0)
@@ -188,16 +197,22 @@ fn spawn_celestial_visuals(
 /// Moves the spheres with their bodies, despawns those whose body is gone,
 /// and shows or hides the collision boxes.
 fn follow_celestials(
-    mut visuals: Query<(Entity, &CelestialVisual, &mut Transform)>,
-    bodies: Query<&Position, With<BodyId>>,
+    mut visuals: Query<(Entity, &mut CelestialVisual, &mut Transform)>,
+    bodies: Query<(Entity, &BodyId, &Position)>,
     mut boxes: Query<&mut Visibility, With<CollisionBoxVisual>>,
     settings: Res<SandboxSettings>,
     mut commands: Commands,
 ) {
-    for (entity, visual, mut transform) in &mut visuals {
-        match bodies.get(visual.body) {
-            Ok(body) => transform.translation = body.0,
-            Err(_) => commands.entity(entity).despawn(),
+    for (entity, mut visual, mut transform) in &mut visuals {
+        let held = bodies.get(visual.body).ok().filter(|(_, id, _)| **id == visual.id);
+        match held.or_else(|| bodies.iter().find(|(_, id, _)| **id == visual.id)) {
+            Some((body, _, position)) => {
+                if visual.body != body {
+                    visual.body = body;
+                }
+                transform.translation = position.0;
+            }
+            None => commands.entity(entity).despawn(),
         }
     }
     let wanted = if settings.show_collision_boxes {

@@ -16,7 +16,7 @@ use crate::ui::session::SandboxState;
 use crate::ui::session::UpdateClock;
 use crate::ui::session::{SandboxSettings, TrailChoice};
 use crate::ui::sets::SandboxSystems;
-use crate::ui::view::Selection;
+use crate::ui::view::{Selection, follow_selection};
 
 /// Positions kept per trail: one per frame that ran updates.
 pub const TRAIL_POINTS: usize = 300;
@@ -27,9 +27,10 @@ const CHOOSE_EVERY: u64 = 30;
 #[derive(Resource, Debug, Default)]
 pub struct Trails {
     /// Recent positions of each tracked body, oldest first.
-    paths: HashMap<Entity, VecDeque<Vec3>>,
-    /// The bodies the choice picked, and when.
-    chosen: Vec<Entity>,
+    paths: HashMap<BodyId, VecDeque<Vec3>>,
+    /// The bodies the choice picked (each with the entity that held it
+    /// when last looked up, see `ui/view/selection.rs`), and when.
+    chosen: Vec<(BodyId, Entity)>,
     chosen_at: Option<(u64, TrailChoice, u32)>,
     /// The update count at the last recording, and the scene it was in.
     recorded_at: (u64, u64),
@@ -64,7 +65,7 @@ impl Plugin for TrailsPlugin {
                 Update,
                 (record_trails, draw_trails)
                     .chain()
-                    .after(SandboxSystems::Simulate)
+                    .after(follow_selection)
                     .before(SandboxSystems::View),
             );
     }
@@ -78,25 +79,27 @@ pub fn pick(
     count: usize,
     first_fragment_id: u64,
     bodies: impl Iterator<Item = (Entity, BodyId, Vec3, bool)>,
-) -> Vec<Entity> {
-    let mut candidates: Vec<(f32, BodyId, Entity)> = match choice {
+) -> Vec<(BodyId, Entity)> {
+    // Sorted by the first two, ties to the lower second.
+    let mut candidates: Vec<(f32, u64, BodyId, Entity)> = match choice {
         TrailChoice::Off => return Vec::new(),
         TrailChoice::Fastest => bodies
             .filter(|&(.., interacts)| interacts)
-            .map(|(e, id, v, _)| (-v.length_squared(), id, e))
+            .map(|(e, id, v, _)| (-v.length_squared(), id.0, id, e))
             .collect(),
         TrailChoice::Newest => bodies
             .filter(|&(_, id, ..)| id.0 >= first_fragment_id)
-            .map(|(e, id, ..)| (0.0, BodyId(u64::MAX - id.0), e))
+            .map(|(e, id, ..)| (0.0, u64::MAX - id.0, id, e))
             .collect(),
     };
-    let order = |a: &(f32, BodyId, Entity), b: &(f32, BodyId, Entity)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+    let order =
+        |a: &(f32, u64, BodyId, Entity), b: &(f32, u64, BodyId, Entity)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
     if candidates.len() > count && count > 0 {
         candidates.select_nth_unstable_by(count - 1, order);
     }
     candidates.truncate(count);
     candidates.sort_unstable_by(order);
-    candidates.into_iter().map(|(.., e)| e).collect()
+    candidates.into_iter().map(|(.., id, e)| (id, e)).collect()
 }
 
 fn spawn_trail_lines(
@@ -130,7 +133,7 @@ fn record_trails(
     state: Res<SandboxState>,
     bodies: Query<(Entity, &BodyId, &Position, &Velocity, Has<NonInteracting>)>,
 ) {
-    if settings.trails == TrailChoice::Off && selection.entity.is_none() {
+    if settings.trails == TrailChoice::Off && selection.id.is_none() {
         if !trails.paths.is_empty() {
             trails.paths.clear();
             trails.chosen.clear();
@@ -165,11 +168,32 @@ fn record_trails(
         trails.chosen_at = Some((now.0, wanted.0, wanted.1));
     }
     let mut tracked = trails.chosen.clone();
-    tracked.extend(selection.entity);
-    trails.paths.retain(|entity, _| tracked.contains(entity));
-    for entity in tracked {
+    tracked.extend(selection.id.zip(selection.entity));
+    trails
+        .paths
+        .retain(|id, _| tracked.iter().any(|(tracked, _)| tracked == id));
+    // Where a chosen body came to be held by another entity, it is found
+    // again, in one pass for all of them.
+    let held = |&(id, entity): &(BodyId, Entity)| bodies.get(entity).is_ok_and(|(_, held, ..)| *held == id);
+    if !trails.chosen.iter().all(held) {
+        let mut found: HashMap<BodyId, Entity> =
+            trails.chosen.iter().map(|&(id, _)| (id, Entity::PLACEHOLDER)).collect();
+        for (entity, id, ..) in &bodies {
+            if let Some(slot) = found.get_mut(id) {
+                *slot = entity;
+            }
+        }
+        for (id, entity) in &mut trails.chosen {
+            *entity = found[id];
+        }
+        // Gone (shattered, absorbed): no longer tracked, nor looked for.
+        trails.chosen.retain(|&(_, entity)| entity != Entity::PLACEHOLDER);
+        tracked = trails.chosen.clone();
+        tracked.extend(selection.id.zip(selection.entity));
+    }
+    for (id, entity) in tracked {
         if let Ok((_, _, position, ..)) = bodies.get(entity) {
-            let path = trails.paths.entry(entity).or_default();
+            let path = trails.paths.entry(id).or_default();
             path.push_back(position.0);
             if path.len() > TRAIL_POINTS {
                 path.pop_front();
@@ -181,11 +205,11 @@ fn record_trails(
 
 /// A line list of every path, each fading from transparent (oldest) to
 /// opaque (newest); the selected body's in gold, the others in cyan.
-fn lines(paths: &HashMap<Entity, VecDeque<Vec3>>, selected: Option<Entity>) -> Mesh {
+fn lines(paths: &HashMap<BodyId, VecDeque<Vec3>>, selected: Option<BodyId>) -> Mesh {
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut colors: Vec<[f32; 4]> = Vec::new();
-    for (entity, path) in paths {
-        let [r, g, b] = if Some(*entity) == selected {
+    for (id, path) in paths {
+        let [r, g, b] = if Some(*id) == selected {
             [1.0, 0.8, 0.2]
         } else {
             [0.3, 0.85, 1.0]
@@ -227,7 +251,7 @@ fn draw_trails(
         } else {
             Visibility::Inherited
         });
-        if !empty && let Err(e) = meshes.insert(&mesh.0, lines(&trails.paths, selection.entity)) {
+        if !empty && let Err(e) = meshes.insert(&mesh.0, lines(&trails.paths, selection.id)) {
             warn!("trails: {e}");
         }
     }
@@ -255,25 +279,26 @@ mod tests {
     fn picks_the_fastest_interacting_bodies_fastest_first() {
         let picked = pick(TrailChoice::Fastest, 3, 0, bodies().into_iter());
         // Body 1 (speed 9) does not interact: 5 (8), 3 (7), 7 (6).
-        let ids: Vec<u32> = picked.iter().map(|e| e.index_u32() - 1).collect();
+        let ids: Vec<u32> = picked.iter().map(|(_, e)| e.index_u32() - 1).collect();
         assert_eq!(ids, [5, 3, 7]);
+        assert_eq!(picked[0].0, BodyId(50));
     }
 
     #[test]
     fn picks_the_newest_fragments_newest_first() {
         let picked = pick(TrailChoice::Newest, 4, 65, bodies().into_iter());
         // Fragments: ids 70, 80, 90 only.
-        let ids: Vec<u32> = picked.iter().map(|e| e.index_u32() - 1).collect();
+        let ids: Vec<u32> = picked.iter().map(|(_, e)| e.index_u32() - 1).collect();
         assert_eq!(ids, [9, 8, 7]);
+        assert_eq!(picked[0].0, BodyId(90));
         assert!(pick(TrailChoice::Off, 4, 0, bodies().into_iter()).is_empty());
     }
 
     #[test]
     fn paths_become_fading_segments() {
         let mut paths = HashMap::default();
-        let e = Entity::from_raw_u32(1).unwrap();
-        paths.insert(e, VecDeque::from([Vec3::ZERO, Vec3::X, Vec3::Y]));
-        let mesh = lines(&paths, Some(e));
+        paths.insert(BodyId(1), VecDeque::from([Vec3::ZERO, Vec3::X, Vec3::Y]));
+        let mesh = lines(&paths, Some(BodyId(1)));
         assert_eq!(mesh.count_vertices(), 4, "two segments");
         let Some(bevy::mesh::VertexAttributeValues::Float32x4(colors)) = mesh.attribute(Mesh::ATTRIBUTE_COLOR) else {
             panic!("colors");

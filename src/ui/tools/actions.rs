@@ -155,7 +155,7 @@ fn apply_action(world: &mut World, action: &ToolAction) -> Result<(), String> {
                 .find(|(_, b)| b.0 == id)
                 .map(|(e, _)| e)
                 .ok_or_else(|| format!("select: there is no body {id}"))?;
-            world.resource_mut::<Selection>().entity = Some(entity);
+            world.resource_mut::<Selection>().select(BodyId(id), entity);
             return Ok(());
         }
         ToolAction::SaveSession(ref path) => {
@@ -206,9 +206,12 @@ fn record_checked(world: &mut World, event: Event) -> Result<(), String> {
 
 /// The selected body's state, if it still exists.
 fn selected(world: &mut World) -> Option<BodyState> {
-    let entity = world.resource::<Selection>().entity?;
+    let Selection { id, entity } = *world.resource::<Selection>();
     let mut query = world.query::<BodyStateQuery>();
-    query.get(world, entity).ok().map(BodyState::from_components)
+    let body = query.get(world, entity?).ok().map(BodyState::from_components)?;
+    // The entity is found again after each simulation step: it holds the
+    // selected body unless something in between rewrote the rows.
+    (Some(body.id) == id).then_some(body)
 }
 
 /// The direction from `target` to the camera, if there is a camera away

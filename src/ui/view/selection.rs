@@ -1,5 +1,11 @@
 //! Selecting a body: a click casts a ray from the camera, the nearest box it
 //! hits is selected and shown in the panel; the follow camera tracks it.
+//! The selection is the body's id ([`BodyId`]), not its entity: an entity
+//! is where a body is stored, and a body can come to be stored by another
+//! (a rewind or a restarted scene spawns every body anew), so the entity
+//! is checked, and looked up again where it changed, after every
+//! simulation step ([`follow_selection`]). The window's other holders of a
+//! body — trails, the celestial spheres — do the same.
 
 use bevy::prelude::*;
 use bevy_egui::input::EguiWantsInput;
@@ -9,10 +15,29 @@ use crate::components::{BodyId, GravityRole, HalfExtents, Mass, Position, Veloci
 use crate::ui::sets::SandboxSystems;
 
 /// The selected body, if any.
-#[derive(Resource, Clone, Copy, Debug, Default)]
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Selection {
-    /// Its entity (which may have shattered since).
+    /// Its id.
+    pub id: Option<BodyId>,
+    /// The entity that holds it now, found again after each simulation
+    /// step ([`follow_selection`]); `None` once the body is gone (it
+    /// shattered, or was removed).
     pub entity: Option<Entity>,
+}
+
+impl Selection {
+    /// Selects body `id`, held by `entity`.
+    pub fn select(&mut self, id: BodyId, entity: Entity) {
+        *self = Self {
+            id: Some(id),
+            entity: Some(entity),
+        };
+    }
+
+    /// Selects nothing.
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
 }
 
 /// Picking a body with the mouse.
@@ -20,8 +45,15 @@ pub struct SelectionPlugin;
 
 impl Plugin for SelectionPlugin {
     fn build(&self, app: &mut App) {
-        app.init_resource::<Selection>()
-            .add_systems(Update, select_on_click.in_set(SandboxSystems::View));
+        app.init_resource::<Selection>().add_systems(
+            Update,
+            (
+                follow_selection
+                    .after(SandboxSystems::Simulate)
+                    .before(SandboxSystems::View),
+                select_on_click.in_set(SandboxSystems::View),
+            ),
+        );
     }
 }
 
@@ -48,6 +80,23 @@ pub fn nearest_hit(origin: Vec3, direction: Vec3, boxes: impl Iterator<Item = (V
         .min_by(|a, b| a.1.total_cmp(&b.1))
 }
 
+/// Finds the entity that holds the selected body now: the same as before
+/// unless the rows were rewritten (one pass over the bodies then); clears
+/// the selection when the body is gone.
+pub fn follow_selection(mut selection: ResMut<Selection>, bodies: Query<(Entity, &BodyId)>) {
+    let Some(id) = selection.id else {
+        return;
+    };
+    let held = |entity: Entity| bodies.get(entity).is_ok_and(|(_, held)| *held == id);
+    if selection.entity.is_some_and(held) {
+        return;
+    }
+    match bodies.iter().find(|(_, held)| **held == id) {
+        Some((entity, _)) => selection.select(id, entity),
+        None => selection.clear(),
+    }
+}
+
 /// Selects the body under the cursor on a left click that was not a drag
 /// and not on the panel.
 pub fn select_on_click(
@@ -55,7 +104,7 @@ pub fn select_on_click(
     window: Single<&Window>,
     camera: Single<(&Camera, &GlobalTransform), With<MainCamera>>,
     egui: Res<EguiWantsInput>,
-    bodies: Query<(Entity, &Position, &HalfExtents)>,
+    bodies: Query<(Entity, &BodyId, &Position, &HalfExtents)>,
     mut pressed_at: Local<Option<Vec2>>,
     mut selection: ResMut<Selection>,
 ) {
@@ -76,12 +125,15 @@ pub fn select_on_click(
     let Ok(ray) = camera.viewport_to_world(camera_transform, end) else {
         return;
     };
-    let candidates: Vec<(Entity, Vec3, Vec3)> = bodies
+    let candidates: Vec<(Entity, BodyId, Vec3, Vec3)> = bodies
         .iter()
-        .map(|(entity, position, half)| (entity, position.0, half.0))
+        .map(|(entity, id, position, half)| (entity, *id, position.0, half.0))
         .collect();
-    let hit = nearest_hit(ray.origin, *ray.direction, candidates.iter().map(|&(_, c, h)| (c, h)));
-    selection.entity = hit.map(|(i, _)| candidates[i].0);
+    let hit = nearest_hit(ray.origin, *ray.direction, candidates.iter().map(|&(.., c, h)| (c, h)));
+    match hit.map(|(i, _)| candidates[i]) {
+        Some((entity, id, ..)) => selection.select(id, entity),
+        None => selection.clear(),
+    }
 }
 
 /// What the panel shows of the selected body.
@@ -115,7 +167,7 @@ pub fn selected_info(
             role: GravityRole::of(role),
         }),
         Err(_) => {
-            selection.entity = None;
+            selection.clear();
             None
         }
     }
@@ -123,7 +175,44 @@ pub fn selected_info(
 
 #[cfg(test)]
 mod tests {
+    use bevy::ecs::system::RunSystemOnce;
+
     use super::*;
+
+    /// A world of bodies with ids `ids`, spawned anew (as a rewind does),
+    /// and the entity holding each.
+    fn respawn(world: &mut World, ids: &[u64]) -> Vec<(BodyId, Entity)> {
+        let old: Vec<Entity> = world.query_filtered::<Entity, With<BodyId>>().iter(world).collect();
+        for entity in old {
+            world.despawn(entity);
+        }
+        ids.iter()
+            .map(|&id| (BodyId(id), world.spawn(BodyId(id)).id()))
+            .collect()
+    }
+
+    fn follow(world: &mut World) -> Selection {
+        world.run_system_once(follow_selection).unwrap();
+        *world.resource::<Selection>()
+    }
+
+    #[test]
+    fn the_selection_follows_its_body_to_another_entity_and_ends_with_it() {
+        let mut world = World::new();
+        world.init_resource::<Selection>();
+        let before = respawn(&mut world, &[0, 1, 2, 3, 4]);
+        world.resource_mut::<Selection>().select(before[3].0, before[3].1);
+        assert_eq!(follow(&mut world).entity, Some(before[3].1), "held where it was");
+        // Every body spawned anew, in another order: id 3 is held by
+        // another entity now.
+        let after = respawn(&mut world, &[4, 3, 2, 1, 0]);
+        assert_ne!(after[1].1, before[3].1);
+        let followed = follow(&mut world);
+        assert_eq!((followed.id, followed.entity), (Some(BodyId(3)), Some(after[1].1)));
+        // Gone (shattered): nothing selected.
+        world.despawn(after[1].1);
+        assert_eq!(follow(&mut world), Selection::default());
+    }
 
     #[test]
     fn ray_enters_box_at_its_near_face() {

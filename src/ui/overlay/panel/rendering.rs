@@ -66,7 +66,7 @@ pub(super) fn camera(
                 info.position.z
             ));
             if ui.button("clear selection").clicked() {
-                selection.entity = None;
+                selection.clear();
             }
         }
         None => {
