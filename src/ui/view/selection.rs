@@ -12,6 +12,7 @@ use bevy_egui::input::EguiWantsInput;
 
 use super::main_camera::MainCamera;
 use crate::components::{BodyId, GravityRole, HalfExtents, Mass, Position, Velocity};
+use crate::ui::session::SandboxState;
 use crate::ui::sets::SandboxSystems;
 
 /// The selected body, if any.
@@ -81,9 +82,21 @@ pub fn nearest_hit(origin: Vec3, direction: Vec3, boxes: impl Iterator<Item = (V
 }
 
 /// Finds the entity that holds the selected body now: the same as before
-/// unless the rows were rewritten (one pass over the bodies then); clears
-/// the selection when the body is gone.
-pub fn follow_selection(mut selection: ResMut<Selection>, bodies: Query<(Entity, &BodyId)>) {
+/// unless the body came to be held by another (one pass over the bodies
+/// then); clears the selection when the body is gone, or the scene was
+/// built anew (where the ids name other bodies).
+pub fn follow_selection(
+    mut selection: ResMut<Selection>,
+    bodies: Query<(Entity, &BodyId)>,
+    state: Option<Res<SandboxState>>,
+    mut scene: Local<Option<u64>>,
+) {
+    if let Some(state) = state {
+        if scene.is_some_and(|seen| seen != state.generation) {
+            selection.clear();
+        }
+        *scene = Some(state.generation);
+    }
     let Some(id) = selection.id else {
         return;
     };
@@ -175,8 +188,6 @@ pub fn selected_info(
 
 #[cfg(test)]
 mod tests {
-    use bevy::ecs::system::RunSystemOnce;
-
     use super::*;
 
     /// A world of bodies with ids `ids`, spawned anew (as a rewind does),
@@ -191,10 +202,23 @@ mod tests {
             .collect()
     }
 
+    /// Runs the world's one `follow_selection` (registered on the first
+    /// call, so that it keeps its state); the selection after it.
     fn follow(world: &mut World) -> Selection {
-        world.run_system_once(follow_selection).unwrap();
+        let system = match world.get_resource::<Follow>() {
+            Some(Follow(system)) => *system,
+            None => {
+                let system = world.register_system(follow_selection);
+                world.insert_resource(Follow(system));
+                system
+            }
+        };
+        world.run_system(system).unwrap();
         *world.resource::<Selection>()
     }
+
+    #[derive(Resource)]
+    struct Follow(bevy::ecs::system::SystemId);
 
     #[test]
     fn the_selection_follows_its_body_to_another_entity_and_ends_with_it() {
@@ -211,6 +235,24 @@ mod tests {
         assert_eq!((followed.id, followed.entity), (Some(BodyId(3)), Some(after[1].1)));
         // Gone (shattered): nothing selected.
         world.despawn(after[1].1);
+        assert_eq!(follow(&mut world), Selection::default());
+    }
+
+    #[test]
+    fn a_scene_built_anew_ends_the_selection() {
+        let mut world = World::new();
+        world.init_resource::<Selection>();
+        let settings = crate::ui::session::SandboxSettings::default();
+        world.insert_resource(SandboxState::new(
+            crate::scenario::Scenario::builtin_default(),
+            &settings,
+        ));
+        let bodies = respawn(&mut world, &[0, 1, 2]);
+        world.resource_mut::<Selection>().select(bodies[1].0, bodies[1].1);
+        assert_eq!(follow(&mut world).id, Some(BodyId(1)), "a rewind keeps it");
+        // Another scene: its body 1 is another body.
+        respawn(&mut world, &[0, 1, 2]);
+        world.resource_mut::<SandboxState>().generation += 1;
         assert_eq!(follow(&mut world), Selection::default());
     }
 
