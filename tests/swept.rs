@@ -532,22 +532,45 @@ fn fragments_an_absorber_takes_in_their_first_update_are_accounted_for() {
 /// update, past the swept contacts' bound (`MAX_CONTACTS_PER_BODY` for
 /// each of the three bodies). The contacts past it wait for the next
 /// update and are counted, in the collision statistics and the
-/// timeline's `deferred` column; the cube never ends an update inside a
-/// wall, and its speed is kept (the walls do not move).
+/// timeline's `deferred` column; the cube never ends an update outside
+/// the gap, and its speed is kept (the walls do not move). Also where
+/// the scene lies far from the origin, so that positions round to coarse
+/// floats.
 #[test]
 fn a_cube_caught_between_two_walls_defers_its_contacts_and_stays_between_them() {
-    let mut s = sim("Scenario(gravitational_constant: 0, shatter_threshold: 1000, bodies: [
-            Body(position: (0, 0, 0), velocity: (50, 0, 0)),
-            Body(position: (-2.05, 0, 0), half_extents: (1, 10, 10), interacts: false),
-            Body(position: (2.05, 0, 0), half_extents: (1, 10, 10), interacts: false),
-        ])");
-    let mut timeline = kessler::simulation::Timeline::new(1);
-    timeline.run(&mut s, 3, |_| {});
-    let deferred: Vec<u64> = timeline.rows().iter().map(|r| r.deferred).collect();
-    assert_eq!(deferred[0], 0, "nothing before the first update");
-    assert!(deferred[1..].iter().all(|&d| d > 0), "{deferred:?}");
-    assert_eq!(deferred.iter().sum::<u64>(), s.collision_stats().deferred_total);
-    let cube = s.snapshot()[0];
-    assert!(cube.position.x.abs() <= 0.05 + 1e-5, "between the walls: {cube:?}");
-    assert_eq!(cube.velocity.length(), 50.0, "{cube:?}");
+    let scene = |x: f32| {
+        sim(&format!(
+            "Scenario(gravitational_constant: 0, shatter_threshold: 1000, bodies: [
+                Body(position: ({x}, 0, 0), velocity: (50, 0, 0)),
+                Body(position: ({}, 0, 0), half_extents: (1, 10, 10), interacts: false),
+                Body(position: ({}, 0, 0), half_extents: (1, 10, 10), interacts: false),
+            ])",
+            x - 2.05,
+            x + 2.05
+        ))
+    };
+    for x in [0.0f32, 1000.3, -7777.7] {
+        let mut s = scene(x);
+        let mut deferred = Vec::new();
+        for update in 1..=20 {
+            s.step(1);
+            deferred.push(s.collision_stats().deferred as u64);
+            let cube = s.snapshot()[0];
+            let slack = 0.05 + 4.0 * f32::EPSILON * x.abs();
+            assert!(
+                (cube.position.x - x).abs() <= slack + 1e-5,
+                "update {update}, scene at {x}: {cube:?}"
+            );
+            assert!(
+                (cube.velocity.length() - 50.0).abs() < 1e-4,
+                "update {update}: {cube:?}"
+            );
+        }
+        assert!(deferred.iter().all(|&d| d > 0), "scene at {x}: {deferred:?}");
+        // The timeline's column counts the same contacts, update by update.
+        let mut timeline = kessler::simulation::Timeline::new(1);
+        timeline.run(&mut scene(x), 20, |_| {});
+        let column: Vec<u64> = timeline.rows()[1..].iter().map(|r| r.deferred).collect();
+        assert_eq!(column, deferred, "scene at {x}");
+    }
 }

@@ -32,8 +32,8 @@ use crate::systems::sweep::Pair;
 
 /// Most contacts that change a path (bounces and separations) per body
 /// taking part, within one update: past it the rest of the update's
-/// contacts wait for the next update, the bodies of each stopping where
-/// they touch (`Contacts::hold`), and are counted
+/// contacts wait for the next update, a bounce's bodies staying where
+/// they touch with their new velocities (`Contacts::hold`), and are counted
 /// ([`Resolved::deferred`]; absorptions, which change no path, go on).
 /// Elastic chains end after a few contacts a body; a body caught between
 /// two walls takes one contact for each time it crosses the gap
@@ -356,7 +356,8 @@ fn union(a: &Aabb, b: &Aabb) -> Aabb {
 
 /// Every contact of the update in time order, starting from the broad
 /// phase's `pairs` (first touches found as `stage` splits them), until no
-/// contact is left or [`MAX_CONTACTS_PER_BODY`] is reached.
+/// contact is left; past [`MAX_CONTACTS_PER_BODY`] path changes, held
+/// (`Contacts::hold`) instead of acted on, absorptions excepted.
 pub(super) fn resolve_in_time_order<N: Neighbourhood>(
     pairs: &[Pair],
     world: &N,
@@ -382,9 +383,7 @@ pub(super) fn resolve_in_time_order<N: Neighbourhood>(
         }
         let absorbing = a.state.absorbs || b.state.absorbs;
         if !absorbing && changes >= MAX_CONTACTS_PER_BODY * (tracked + rules.budget.ids_since(first_id) as usize) {
-            if contacts.hold([i, j], touch.meeting, rules.dt) {
-                resolved.deferred += 1;
-            }
+            resolved.deferred += usize::from(contacts.hold([i, j], touch.meeting, rules.dt));
             continue;
         }
         changes += contacts.act([i, j], touch.meeting, &mut rules, &mut resolved);
@@ -452,38 +451,39 @@ impl<'n, N: Neighbourhood> Contacts<'n, N> {
     }
 
     /// Past [`MAX_CONTACTS_PER_BODY`]: the contact of bodies `i` and `j`
-    /// at `meeting`, whose touch is current, is left for the next update,
-    /// and each of the two that would change its path stops where they
-    /// touch for the rest of this one (its velocity kept), so that neither
-    /// passes into the other. True when it stopped a body. A body stops
-    /// once: terminates.
+    /// at `meeting`, whose touch is current, if it would act. A bounce
+    /// still exchanges the velocities, but each body it changes stays where
+    /// they touch for the rest of the update, its new velocity moving it
+    /// on from there in the next (so it leaves the other, as it would have
+    /// within this update); the rest of its motion in this update is
+    /// dropped. A pair that overlapped already is left as it is, to be
+    /// pushed apart in the next update. True when the contact would have
+    /// acted (a deferred contact). Each bounce held here stops a body that
+    /// was moving (one of two already still gives nothing more): the
+    /// update's contacts end.
     fn hold(&mut self, [i, j]: [u32; 2], meeting: Meeting, dt: f32) -> bool {
         let (a, b) = (&self.bodies[i as usize], &self.bodies[j as usize]);
-        let (stops_a, stops_b) = match respond_swept(&a.path, &b.path, meeting, f32::INFINITY, dt) {
-            Contact::Bounce(pa, pb) | Contact::Separate(pa, pb) => (pa.is_some(), pb.is_some()),
+        let still = |path: &SweptBody| path.start == path.end;
+        let (pa, pb) = match respond_swept(&a.path, &b.path, meeting, f32::INFINITY, dt) {
+            Contact::Bounce(..) if still(&a.path) && still(&b.path) => return true,
+            Contact::Bounce(pa, pb) => (pa, pb),
+            Contact::Separate(..) => return true,
             Contact::Ignore | Contact::Shatter => return false,
         };
-        let s = meeting.time();
-        let mut held = false;
-        for (k, stops) in [(i, stops_a), (j, stops_b)] {
-            let path = self.bodies[k as usize].path;
-            if !stops || path.start == path.end {
-                continue;
+        for (k, bounced) in [(i, pa), (j, pb)] {
+            // From where they touch, on for none of the update.
+            if let Some(bounced) = bounced {
+                self.moved(
+                    k,
+                    SweptBody {
+                        end: bounced.start,
+                        ..bounced
+                    },
+                    false,
+                );
             }
-            let here = path.at(s);
-            self.moved(
-                k,
-                SweptBody {
-                    start: here,
-                    end: here,
-                    from: s,
-                    ..path
-                },
-                false,
-            );
-            held = true;
         }
-        held
+        true
     }
 
     /// The contact of bodies `i` and `j` at `meeting`, whose touch is

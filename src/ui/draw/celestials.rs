@@ -19,8 +19,7 @@ use crate::ui::session::SandboxSettings;
 pub struct CelestialVisual {
     /// The entity that holds the body it stands for.
     pub body: Entity,
-    /// Its id: the entity is found again by it where the body came to be
-    /// held by another (see `ui/view/selection.rs`).
+    /// Its id: the sphere goes when its entity no longer holds this body.
     pub id: BodyId,
 }
 
@@ -197,22 +196,18 @@ fn spawn_celestial_visuals(
 /// Moves the spheres with their bodies, despawns those whose body is gone,
 /// and shows or hides the collision boxes.
 fn follow_celestials(
-    mut visuals: Query<(Entity, &mut CelestialVisual, &mut Transform)>,
+    mut visuals: Query<(Entity, &CelestialVisual, &mut Transform)>,
     bodies: Query<(Entity, &BodyId, &Position)>,
     mut boxes: Query<&mut Visibility, With<CollisionBoxVisual>>,
     settings: Res<SandboxSettings>,
     mut commands: Commands,
 ) {
-    for (entity, mut visual, mut transform) in &mut visuals {
-        let held = bodies.get(visual.body).ok().filter(|(_, id, _)| **id == visual.id);
-        match held.or_else(|| bodies.iter().find(|(_, id, _)| **id == visual.id)) {
-            Some((body, _, position)) => {
-                if visual.body != body {
-                    visual.body = body;
-                }
-                transform.translation = position.0;
-            }
-            None => commands.entity(entity).despawn(),
+    for (entity, visual, mut transform) in &mut visuals {
+        // A body spawned anew (a rewind, a restart) gets a sphere of its
+        // own (`Added`): this one goes with the entity it stood for.
+        match bodies.get(visual.body) {
+            Ok((_, id, position)) if *id == visual.id => transform.translation = position.0,
+            _ => commands.entity(entity).despawn(),
         }
     }
     let wanted = if settings.show_collision_boxes {
@@ -261,6 +256,20 @@ mod tests {
         app.world_mut().despawn(spheres[0]);
         app.update();
         assert_eq!(visuals(&mut app), [spheres[1]], "a body's sphere goes with it");
+        // Every body spawned anew, as a rewind does: two spheres again, on
+        // the new entities.
+        let bodies = scenario.bodies().unwrap();
+        let world = app.world_mut();
+        let old: Vec<Entity> = world.query_filtered::<Entity, With<BodyId>>().iter(world).collect();
+        for entity in old {
+            world.despawn(entity);
+        }
+        crate::simulation::spawn_bodies(world, &bodies);
+        app.update();
+        app.update();
+        let again = visuals(&mut app);
+        assert_eq!(again.len(), 2, "{again:?}");
+        assert!(again.iter().all(|e| !spheres.contains(e)), "on the new entities");
     }
 
     #[test]

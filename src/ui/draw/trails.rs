@@ -12,6 +12,7 @@ use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 
 use crate::components::{BodyId, NonInteracting, Position, Velocity};
+use crate::systems::UpdateCount;
 use crate::ui::session::SandboxState;
 use crate::ui::session::UpdateClock;
 use crate::ui::session::{SandboxSettings, TrailChoice};
@@ -34,6 +35,8 @@ pub struct Trails {
     chosen_at: Option<(u64, TrailChoice, u32)>,
     /// The update count at the last recording, and the scene it was in.
     recorded_at: (u64, u64),
+    /// The simulation's own update count then: less now after a rewind.
+    simulated: u64,
     /// True when the lines need rebuilding.
     dirty: bool,
 }
@@ -132,6 +135,7 @@ fn record_trails(
     clock: Res<UpdateClock>,
     state: Res<SandboxState>,
     bodies: Query<(Entity, &BodyId, &Position, &Velocity, Has<NonInteracting>)>,
+    simulated: Res<UpdateCount>,
 ) {
     if settings.trails == TrailChoice::Off && selection.id.is_none() {
         if !trails.paths.is_empty() {
@@ -146,11 +150,13 @@ fn record_trails(
     if trails.recorded_at == now && !trails.paths.is_empty() {
         return;
     }
-    if trails.recorded_at.1 != now.1 {
+    // A scene built anew, or a rewind: the paths so far lead elsewhere.
+    if trails.recorded_at.1 != now.1 || simulated.0 < trails.simulated {
         trails.paths.clear();
         trails.chosen_at = None;
     }
     trails.recorded_at = now;
+    trails.simulated = simulated.0;
     let wanted = (settings.trails, settings.trail_count);
     let due = match trails.chosen_at {
         Some((at, choice, count)) => (choice, count) != wanted || now.0 >= at + CHOOSE_EVERY,
@@ -167,11 +173,6 @@ fn record_trails(
         );
         trails.chosen_at = Some((now.0, wanted.0, wanted.1));
     }
-    let mut tracked = trails.chosen.clone();
-    tracked.extend(selection.id.zip(selection.entity));
-    trails
-        .paths
-        .retain(|id, _| tracked.iter().any(|(tracked, _)| tracked == id));
     // Where a chosen body came to be held by another entity, it is found
     // again, in one pass for all of them.
     let held = |&(id, entity): &(BodyId, Entity)| bodies.get(entity).is_ok_and(|(_, held, ..)| *held == id);
@@ -188,9 +189,12 @@ fn record_trails(
         }
         // Gone (shattered, absorbed): no longer tracked, nor looked for.
         trails.chosen.retain(|&(_, entity)| entity != Entity::PLACEHOLDER);
-        tracked = trails.chosen.clone();
-        tracked.extend(selection.id.zip(selection.entity));
     }
+    let mut tracked = trails.chosen.clone();
+    tracked.extend(selection.id.zip(selection.entity));
+    trails
+        .paths
+        .retain(|id, _| tracked.iter().any(|(tracked, _)| tracked == id));
     for (id, entity) in tracked {
         if let Ok((_, _, position, ..)) = bodies.get(entity) {
             let path = trails.paths.entry(id).or_default();

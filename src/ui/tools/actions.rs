@@ -155,7 +155,8 @@ fn apply_action(world: &mut World, action: &ToolAction) -> Result<(), String> {
                 .find(|(_, b)| b.0 == id)
                 .map(|(e, _)| e)
                 .ok_or_else(|| format!("select: there is no body {id}"))?;
-            world.resource_mut::<Selection>().select(BodyId(id), entity);
+            let scene = world.resource::<SandboxState>().generation;
+            world.resource_mut::<Selection>().select(BodyId(id), entity, scene);
             return Ok(());
         }
         ToolAction::SaveSession(ref path) => {
@@ -206,7 +207,7 @@ fn record_checked(world: &mut World, event: Event) -> Result<(), String> {
 
 /// The selected body's state, if it still exists.
 fn selected(world: &mut World) -> Option<BodyState> {
-    let Selection { id, entity } = *world.resource::<Selection>();
+    let Selection { id, entity, .. } = *world.resource::<Selection>();
     let mut query = world.query::<BodyStateQuery>();
     let body = query.get(world, entity?).ok().map(BodyState::from_components)?;
     // The entity is found again after each simulation step: it holds the

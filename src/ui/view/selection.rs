@@ -24,14 +24,18 @@ pub struct Selection {
     /// step ([`follow_selection`]); `None` once the body is gone (it
     /// shattered, or was removed).
     pub entity: Option<Entity>,
+    /// The scene it was selected in (`SandboxState::generation`): in a
+    /// scene built anew its id names another body.
+    pub scene: u64,
 }
 
 impl Selection {
-    /// Selects body `id`, held by `entity`.
-    pub fn select(&mut self, id: BodyId, entity: Entity) {
+    /// Selects body `id`, held by `entity`, in scene `scene`.
+    pub fn select(&mut self, id: BodyId, entity: Entity, scene: u64) {
         *self = Self {
             id: Some(id),
             entity: Some(entity),
+            scene,
         };
     }
 
@@ -89,23 +93,23 @@ pub fn follow_selection(
     mut selection: ResMut<Selection>,
     bodies: Query<(Entity, &BodyId)>,
     state: Option<Res<SandboxState>>,
-    mut scene: Local<Option<u64>>,
 ) {
-    if let Some(state) = state {
-        if scene.is_some_and(|seen| seen != state.generation) {
-            selection.clear();
-        }
-        *scene = Some(state.generation);
-    }
     let Some(id) = selection.id else {
         return;
     };
+    if state.is_some_and(|state| state.generation != selection.scene) {
+        selection.clear();
+        return;
+    }
     let held = |entity: Entity| bodies.get(entity).is_ok_and(|(_, held)| *held == id);
     if selection.entity.is_some_and(held) {
         return;
     }
     match bodies.iter().find(|(_, held)| **held == id) {
-        Some((entity, _)) => selection.select(id, entity),
+        Some((entity, _)) => {
+            let scene = selection.scene;
+            selection.select(id, entity, scene);
+        }
         None => selection.clear(),
     }
 }
@@ -119,7 +123,8 @@ pub fn select_on_click(
     egui: Res<EguiWantsInput>,
     bodies: Query<(Entity, &BodyId, &Position, &HalfExtents)>,
     mut pressed_at: Local<Option<Vec2>>,
-    mut selection: ResMut<Selection>,
+    // The selection, and the scene it is made in.
+    (mut selection, state): (ResMut<Selection>, Res<SandboxState>),
 ) {
     let cursor = window.cursor_position();
     if buttons.just_pressed(MouseButton::Left) {
@@ -144,7 +149,7 @@ pub fn select_on_click(
         .collect();
     let hit = nearest_hit(ray.origin, *ray.direction, candidates.iter().map(|&(.., c, h)| (c, h)));
     match hit.map(|(i, _)| candidates[i]) {
-        Some((entity, id, ..)) => selection.select(id, entity),
+        Some((entity, id, ..)) => selection.select(id, entity, state.generation),
         None => selection.clear(),
     }
 }
@@ -225,7 +230,7 @@ mod tests {
         let mut world = World::new();
         world.init_resource::<Selection>();
         let before = respawn(&mut world, &[0, 1, 2, 3, 4]);
-        world.resource_mut::<Selection>().select(before[3].0, before[3].1);
+        world.resource_mut::<Selection>().select(before[3].0, before[3].1, 0);
         assert_eq!(follow(&mut world).entity, Some(before[3].1), "held where it was");
         // Every body spawned anew, in another order: id 3 is held by
         // another entity now.
@@ -248,7 +253,7 @@ mod tests {
             &settings,
         ));
         let bodies = respawn(&mut world, &[0, 1, 2]);
-        world.resource_mut::<Selection>().select(bodies[1].0, bodies[1].1);
+        world.resource_mut::<Selection>().select(bodies[1].0, bodies[1].1, 0);
         assert_eq!(follow(&mut world).id, Some(BodyId(1)), "a rewind keeps it");
         // Another scene: its body 1 is another body.
         respawn(&mut world, &[0, 1, 2]);
