@@ -69,8 +69,8 @@ pub(super) struct Resolved {
     pub responses: usize,
     /// Shatters the budget refused (the pair bounced).
     pub refused: usize,
-    /// Contacts left for the next update at [`MAX_CONTACTS_PER_BODY`], at
-    /// which bodies stopped.
+    /// Contacts left for the next update past [`MAX_CONTACTS_PER_BODY`]
+    /// (`Contacts::hold`).
     pub deferred: usize,
 }
 

@@ -197,7 +197,7 @@ fn spawn_celestial_visuals(
 /// and shows or hides the collision boxes.
 fn follow_celestials(
     mut visuals: Query<(Entity, &CelestialVisual, &mut Transform)>,
-    bodies: Query<(Entity, &BodyId, &Position)>,
+    bodies: Query<(&BodyId, &Position)>,
     mut boxes: Query<&mut Visibility, With<CollisionBoxVisual>>,
     settings: Res<SandboxSettings>,
     mut commands: Commands,
@@ -206,7 +206,7 @@ fn follow_celestials(
         // A body spawned anew (a rewind, a restart) gets a sphere of its
         // own (`Added`): this one goes with the entity it stood for.
         match bodies.get(visual.body) {
-            Ok((_, id, position)) if *id == visual.id => transform.translation = position.0,
+            Ok((id, position)) if *id == visual.id => transform.translation = position.0,
             _ => commands.entity(entity).despawn(),
         }
     }

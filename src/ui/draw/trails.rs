@@ -17,7 +17,7 @@ use crate::ui::session::SandboxState;
 use crate::ui::session::UpdateClock;
 use crate::ui::session::{SandboxSettings, TrailChoice};
 use crate::ui::sets::SandboxSystems;
-use crate::ui::view::{Selection, follow_selection};
+use crate::ui::view::{Selection, find_holders, follow_selection};
 
 /// Positions kept per trail: one per frame that ran updates.
 pub const TRAIL_POINTS: usize = 300;
@@ -174,22 +174,13 @@ fn record_trails(
         trails.chosen_at = Some((now.0, wanted.0, wanted.1));
     }
     // Where a chosen body came to be held by another entity, it is found
-    // again, in one pass for all of them.
-    let held = |&(id, entity): &(BodyId, Entity)| bodies.get(entity).is_ok_and(|(_, held, ..)| *held == id);
-    if !trails.chosen.iter().all(held) {
-        let mut found: HashMap<BodyId, Entity> =
-            trails.chosen.iter().map(|&(id, _)| (id, Entity::PLACEHOLDER)).collect();
-        for (entity, id, ..) in &bodies {
-            if let Some(slot) = found.get_mut(id) {
-                *slot = entity;
-            }
-        }
-        for (id, entity) in &mut trails.chosen {
-            *entity = found[id];
-        }
-        // Gone (shattered, absorbed): no longer tracked, nor looked for.
-        trails.chosen.retain(|&(_, entity)| entity != Entity::PLACEHOLDER);
-    }
+    // again; one gone (shattered, absorbed) is no longer tracked.
+    find_holders(
+        &mut trails.chosen,
+        |entity| bodies.get(entity).ok().map(|(_, id, ..)| *id),
+        bodies.iter().map(|(entity, id, ..)| (entity, *id)),
+    );
+    trails.chosen.retain(|&(_, entity)| entity != Entity::PLACEHOLDER);
     let mut tracked = trails.chosen.clone();
     tracked.extend(selection.id.zip(selection.entity));
     trails

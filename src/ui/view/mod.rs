@@ -8,4 +8,4 @@ pub mod selection;
 
 pub use camera::CameraPlugin;
 pub use main_camera::MainCamera;
-pub use selection::{Selection, SelectionPlugin, follow_selection, selected_info};
+pub use selection::{Selection, SelectionPlugin, find_holders, follow_selection, selected_info};

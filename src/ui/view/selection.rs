@@ -7,6 +7,7 @@
 //! simulation step ([`follow_selection`]). The window's other holders of a
 //! body — trails, the celestial spheres — do the same.
 
+use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy_egui::input::EguiWantsInput;
 
@@ -101,16 +102,42 @@ pub fn follow_selection(
         selection.clear();
         return;
     }
-    let held = |entity: Entity| bodies.get(entity).is_ok_and(|(_, held)| *held == id);
-    if selection.entity.is_some_and(held) {
+    let mut held = [(id, selection.entity.unwrap_or(Entity::PLACEHOLDER))];
+    find_holders(
+        &mut held,
+        |entity| bodies.get(entity).ok().map(|(_, id)| *id),
+        bodies.iter().map(|(entity, id)| (entity, *id)),
+    );
+    let [(_, entity)] = held;
+    if entity == Entity::PLACEHOLDER {
+        selection.clear();
+    } else if selection.entity != Some(entity) {
+        let scene = selection.scene;
+        selection.select(id, entity, scene);
+    }
+}
+
+/// Makes each `(id, entity)` of `followed` name the entity that holds
+/// body `id` now: kept where `holds(entity)` is `id` (every frame, as a
+/// rule), else found in one pass over `all` (each body's entity and id);
+/// [`Entity::PLACEHOLDER`] where the body is gone. The selection and the
+/// trails follow their bodies with it.
+pub fn find_holders(
+    followed: &mut [(BodyId, Entity)],
+    holds: impl Fn(Entity) -> Option<BodyId>,
+    all: impl IntoIterator<Item = (Entity, BodyId)>,
+) {
+    if followed.iter().all(|&(id, entity)| holds(entity) == Some(id)) {
         return;
     }
-    match bodies.iter().find(|(_, held)| **held == id) {
-        Some((entity, _)) => {
-            let scene = selection.scene;
-            selection.select(id, entity, scene);
+    let mut found: HashMap<BodyId, Entity> = followed.iter().map(|&(id, _)| (id, Entity::PLACEHOLDER)).collect();
+    for (entity, id) in all {
+        if let Some(slot) = found.get_mut(&id) {
+            *slot = entity;
         }
-        None => selection.clear(),
+    }
+    for (id, entity) in followed {
+        *entity = found[id];
     }
 }
 
