@@ -36,7 +36,9 @@ pub enum Fault {
     /// The bodies would outgrow the memory the run may use.
     #[error(
         "the shatters of this update would make {bodies} bodies, more than the {} left under {} \
-         holds at {} bytes a body (at most {}); lower max_bodies, or give the run more memory",
+         holds at {} bytes a body (at most {}); lower max_bodies, raise min_fragment_size (without a \
+         floor a shattering cascade runs away: more and smaller fragments meet ever more often), or give \
+         the run more memory",
         gigabytes(limit.free_bytes), limit.kind, BYTES_PER_BODY, limit.bodies()
     )]
     OutOfMemory {
