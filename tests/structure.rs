@@ -705,7 +705,7 @@ const LADDERS: &[(&str, &[&str])] = &[
     ),
     (
         "crate::systems::response",
-        &["time_order", "outcomes", "matching", "swept", "contact"],
+        &["time_order", "escaped", "outcomes", "matching", "swept", "contact"],
     ),
     (
         "crate::systems::sort",

@@ -11,6 +11,7 @@
 //! meet any number of bodies at once.
 
 mod contact;
+mod escaped;
 mod matching;
 mod outcomes;
 mod swept;
@@ -130,6 +131,10 @@ impl Neighbourhood for Lookup<'_, '_, '_> {
         if let Some(grid) = self.sorted.grid() {
             grid.for_each_cell(region, f);
         }
+    }
+
+    fn cells_per_unit(&self) -> f32 {
+        self.sorted.grid().map_or(0.0, |grid| grid.cells_per_unit())
     }
 
     fn reached(&self, region: &Aabb, out: &mut Vec<Entity>) {

@@ -21,6 +21,7 @@ use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
 
 use super::contact::Motion;
+use super::escaped::Escaped;
 use super::outcomes::ShatterBudget;
 use super::swept::{Contact, Meeting, SweptBody, first_contact, respond_swept};
 use crate::components::BodyState;
@@ -51,6 +52,8 @@ pub(super) trait Neighbourhood {
     /// Calls `f` with every cell of the broad phase's grid that `region`
     /// covers.
     fn cells(&self, region: &Aabb, f: &mut dyn FnMut(u32));
+    /// The grid's finest cells per unit length (0: no grid).
+    fn cells_per_unit(&self) -> f32;
 }
 
 /// What the contacts of an update did.
@@ -160,12 +163,9 @@ struct Contacts<'n, N: Neighbourhood> {
     known: HashSet<[u32; 2]>,
     touches: BinaryHeap<Touch>,
     /// Bodies whose path left their broad-phase box (which the grid knows
-    /// them by), filed under the grid's cells their paths cover (an entry
-    /// may be stale: its body's path has moved on).
-    escaped_in: HashMap<u32, Vec<u32>>,
-    /// Each (cell, body) filed in `escaped_in`, so that a body that moves
-    /// again is filed in a cell once, however often its paths cover it.
-    filed: HashSet<(u32, u32)>,
+    /// them by), filed where their paths go (an entry may be stale: its
+    /// body's path has moved on).
+    escaped: Escaped,
     /// Searches made so far (see [`Tracked::seen`]).
     stamp: u32,
 }
@@ -261,12 +261,9 @@ impl<N: Neighbourhood> Contacts<'_, N> {
             }
         };
         // Bodies that escaped their broad-phase boxes, which the grid knows
-        // only by those: filed by the grid's cells their paths cover.
-        self.world.cells(&region, &mut |cell| {
-            for &m in self.escaped_in.get(&cell).map_or(&[][..], Vec::as_slice) {
-                take(m, &mut found);
-            }
-        });
+        // only by those: filed where their paths go.
+        self.escaped
+            .near(&region, &|r, f| self.world.cells(r, f), &mut |m| take(m, &mut found));
         if !covered {
             let mut reached = Vec::new();
             self.world.reached(&region, &mut reached);
@@ -296,12 +293,7 @@ impl<N: Neighbourhood> Contacts<'_, N> {
             found.sort_unstable();
         }
         if !within(&region, &self.bodies[i as usize].broad) {
-            let (escaped_in, filed) = (&mut self.escaped_in, &mut self.filed);
-            self.world.cells(&region, &mut |cell| {
-                if filed.insert((cell, i)) {
-                    escaped_in.entry(cell).or_default().push(i);
-                }
-            });
+            self.escaped.file(i, &region, &|r, f| self.world.cells(r, f));
         }
         for m in found {
             self.add_pair(i, m);
@@ -418,8 +410,7 @@ impl<'n, N: Neighbourhood> Contacts<'n, N> {
             pairs: Vec::new(),
             known: HashSet::default(),
             touches: BinaryHeap::new(),
-            escaped_in: HashMap::default(),
-            filed: HashSet::default(),
+            escaped: Escaped::new(world.cells_per_unit()),
             stamp: 0,
         };
         for pair in pairs {

@@ -171,6 +171,12 @@ impl Grid {
         }
     }
 
+    /// Cells per unit length on the finer of y and z (0 where all boxes
+    /// share both coordinates).
+    pub fn cells_per_unit(&self) -> f32 {
+        self.scale.x.max(self.scale.y)
+    }
+
     /// The one cell that reports the overlapping pair `a`, `b`.
     #[inline]
     pub fn owner(&self, a: &Aabb, b: &Aabb) -> u32 {
