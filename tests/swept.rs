@@ -265,8 +265,8 @@ fn crossing_rings_at_the_thesis_step_collide_as_at_a_fine_step() {
 /// contacts'), swept detection at the thesis's step makes within 10 % of
 /// the contacts a step 64 times finer makes, at the 12 phases where the
 /// rings meet off-center (0.05–0.3 and 0.7–0.95 of a spacing; at 0 they
-/// meet head-on, once each; between, not at all); discrete detection at the thesis's step makes
-/// fewer than a fifth of them.
+/// meet squarely, once each; between, not at all); discrete detection at
+/// the thesis's step makes fewer than a fifth of them.
 #[test]
 fn crossing_rings_around_a_planet_meet_over_an_orbit_as_at_a_fine_step() {
     for phase in [0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95] {
@@ -420,6 +420,32 @@ fn a_chain_of_unequal_masses_keeps_momentum_energy_and_order() {
 fn a_body_struck_twice_in_one_update_meets_each_in_turn() {
     let got = row("Swept", &[(0.0, 10.0, 1.0), (5.0, 0.0, 1.0), (12.0, -10.0, 1.0)]);
     assert_row(&got, &[(-2.0, -10.0), (5.0, 0.0), (14.0, 10.0)]);
+}
+
+/// A cube turned twice in one update, by a wall and then by a ceiling
+/// (walls of mass 10⁹, taking no part in collisions between themselves),
+/// comes back below its first turn, where a small cube rests that neither
+/// its first path's box nor its second's overlaps, though the box around
+/// both does: its third path meets that cube (at 14/15 of the update),
+/// passes it its downward speed, and neither ends inside the other.
+#[test]
+fn a_body_turned_twice_meets_what_lies_beside_its_earlier_paths() {
+    let mut s = sim("Scenario(gravitational_constant: 0, shatter_threshold: 1000, bodies: [
+            Body(position: (0, 0, 0), velocity: (10, 10, 0), half_extents: (0.5, 0.5, 0.5)),
+            Body(position: (11.5, 0, 0), half_extents: (8, 50, 5), mass: 1e9, interacts: false),
+            Body(position: (-11.8, 16.5, 0), half_extents: (15.2, 10, 5), mass: 1e9, interacts: false),
+            Body(position: (-3.5, 1.9, 0), half_extents: (0.3, 0.3, 0.3)),
+        ])");
+    s.step(1);
+    let got = s.snapshot();
+    let (cube, resting) = (&got[0], &got[3]);
+    let apart = (cube.position - resting.position).abs() - (cube.half_extents + resting.half_extents);
+    assert!(
+        apart.max_element() >= -1e-4,
+        "the cube ends inside the resting one: {got:?}"
+    );
+    assert!(resting.velocity.y < -1.0, "the resting cube was struck: {got:?}");
+    assert!((cube.velocity.x + 10.0).abs() < 1e-4, "{got:?}");
 }
 
 /// Two cubes overlapping where the update starts and moving apart part

@@ -38,6 +38,11 @@ const LONG: u64 = 1 << 63;
 /// Marks a key that names everything filed in a column.
 const EVERY: u64 = 1 << 62;
 
+/// The key of slab `s` (within the i32 range) of `column`.
+fn slab_key(column: u64, s: i64) -> u64 {
+    column << 32 | u64::from(s as i32 as u32)
+}
+
 /// Bodies filed by grid column and slab along x.
 #[derive(Debug, Default)]
 pub(super) struct Escaped {
@@ -84,7 +89,7 @@ impl Escaped {
         cells(region, &mut |cell| {
             let column = u64::from(cell);
             match slabs {
-                Some((lo, hi)) => (lo..=hi).for_each(|s| put(column << 32 | u64::from(s as i32 as u32))),
+                Some((lo, hi)) => (lo..=hi).for_each(|s| put(slab_key(column, s))),
                 None => put(LONG | column),
             }
             put(EVERY | column);
@@ -104,7 +109,7 @@ impl Escaped {
             let column = u64::from(cell);
             match slabs {
                 Some((lo, hi)) => {
-                    (lo..=hi).for_each(|s| list(column << 32 | u64::from(s as i32 as u32)));
+                    (lo..=hi).for_each(|s| list(slab_key(column, s)));
                     list(LONG | column);
                 }
                 None => list(EVERY | column),
@@ -128,6 +133,7 @@ mod tests {
     /// Its cells per unit length.
     const COLUMNS: f32 = 0.1;
 
+    /// A cube of half edge `half` at (`x`, `y`, 0).
     fn cube(x: f32, y: f32, half: f32) -> Aabb {
         Aabb {
             min: Vec3::new(x - half, y - half, -half),
@@ -135,6 +141,7 @@ mod tests {
         }
     }
 
+    /// The bodies a search of `region` brings, each once, in order.
     fn found(escaped: &Escaped, region: &Aabb) -> Vec<u32> {
         let mut all = Vec::new();
         escaped.near(region, &columns, &mut |m| all.push(m));
@@ -143,6 +150,7 @@ mod tests {
         all
     }
 
+    /// Slabs cut a column: what lies far along it is not brought.
     #[test]
     fn a_search_finds_what_overlaps_it_and_not_what_lies_far_along_the_column() {
         let mut escaped = Escaped::new(COLUMNS);
@@ -182,6 +190,7 @@ mod tests {
         }
     }
 
+    /// A region over more than [`MAX_SLABS`] slabs is filed by column.
     #[test]
     fn long_regions_are_found_by_short_searches_and_long_searches_find_everything_in_their_columns() {
         let mut escaped = Escaped::new(COLUMNS);
@@ -209,12 +218,23 @@ mod tests {
         assert_eq!(times, 1);
     }
 
+    /// Slabs past the i32 range are clamped to its ends, not wrapped
+    /// around to slabs near 0: a body 2³² slabs out is not brought to a
+    /// search at the origin, and regions at both ends and across the whole
+    /// range are found.
     #[test]
     fn far_regions_are_clamped_not_wrapped() {
         let mut escaped = Escaped::new(COLUMNS);
-        escaped.file(0, &cube(3.0e38, 5.0, 1.0e37), &columns);
+        // x · 0.4 slabs a unit = 2³² exactly: wrapped, slab 0.
+        escaped.file(0, &cube(1.073_741_8e10, 5.0, 1.0), &columns);
         escaped.file(1, &cube(-3.0e38, 5.0, 1.0e37), &columns);
-        assert_eq!(found(&escaped, &cube(3.0e38, 5.0, 1.0)), [0]);
+        assert_eq!(found(&escaped, &cube(1.0, 5.0, 0.1)), Vec::<u32>::new());
+        assert_eq!(found(&escaped, &cube(1.073_741_8e10, 5.0, 1.0)), [0]);
         assert_eq!(found(&escaped, &cube(-3.0e38, 5.0, 1.0)), [1]);
+        let everything = Aabb {
+            min: Vec3::new(-3.0e38, 4.0, -1.0),
+            max: Vec3::new(3.0e38, 6.0, 1.0),
+        };
+        assert_eq!(found(&escaped, &everything), [0, 1]);
     }
 }

@@ -107,9 +107,6 @@ struct Tracked {
     changed: bool,
     /// The box the broad phase swept for it.
     broad: Aabb,
-    /// The box within which its partners are known: `broad`, grown by
-    /// every search for what its new paths reach.
-    covered: Aabb,
     /// The box its current path sweeps.
     reach: Aabb,
     /// The last search (for what a new path reaches) that found it.
@@ -197,7 +194,6 @@ impl<N: Neighbourhood> Contacts<'_, N> {
             separated: false,
             changed: false,
             broad,
-            covered: broad,
             reach: broad,
             seen: 0,
             pairs: Vec::new(),
@@ -250,7 +246,12 @@ impl<N: Neighbourhood> Contacts<'_, N> {
         self.stamp += 1;
         let stamp = self.stamp;
         self.bodies[i as usize].seen = stamp;
-        let covered = within(&region, &self.bodies[i as usize].covered);
+        // Within the box the broad phase swept for it, its partners are
+        // known: every body whose box there overlaps it is in its pairs.
+        // Beyond, only a search through the grid finds them all (the box
+        // around its earlier paths is no bound: a path that turned twice
+        // passes places none of them covered; tests/swept.rs).
+        let covered = within(&region, &self.bodies[i as usize].broad);
         let mut found = Vec::new();
         let bodies = &mut self.bodies;
         let mut take = |m: u32, found: &mut Vec<u32>| {
@@ -287,13 +288,9 @@ impl<N: Neighbourhood> Contacts<'_, N> {
                     found.push(m);
                 }
             }
-            let body = &mut self.bodies[i as usize];
-            body.covered = union(&body.covered, &region);
+            self.escaped.file(i, &region, &|r, f| self.world.cells(r, f));
         } else {
             found.sort_unstable();
-        }
-        if !within(&region, &self.bodies[i as usize].broad) {
-            self.escaped.file(i, &region, &|r, f| self.world.cells(r, f));
         }
         for m in found {
             self.add_pair(i, m);
@@ -336,14 +333,6 @@ const NOWHERE: Aabb = Aabb {
 /// Whether `inner` lies within `outer`.
 fn within(inner: &Aabb, outer: &Aabb) -> bool {
     inner.min.cmpge(outer.min).all() && inner.max.cmple(outer.max).all()
-}
-
-/// The smallest box holding both.
-fn union(a: &Aabb, b: &Aabb) -> Aabb {
-    Aabb {
-        min: a.min.min(b.min),
-        max: a.max.max(b.max),
-    }
 }
 
 /// Every contact of the update in time order, starting from the broad
