@@ -26,10 +26,10 @@ const PROCESSORS: [&str; 2] = ["qemu64", "Haswell"];
 
 /// The scenes and their updates: a tree-gravity collapse that shatters,
 /// through its 8th update (343 shatters, fragments in the contacts of the
-/// update they are made in; its 9th and 10th, the densest, take nine
-/// tenths of its 50 updates' time, ten times its 8th, and emulated most of
-/// this file's), a tree-gravity ring, the default scene and the thesis
-/// scene.
+/// update they are made in; its 9th and 10th, the densest, take three
+/// fifths of its 50 updates' time, fourteen times its first 8, and
+/// emulated most of this file's), a tree-gravity ring, the default scene
+/// and the thesis scene.
 const SCENES: [(&str, &str); 4] = [
     ("collapse", "8"),
     ("debris_ring", "50"),
